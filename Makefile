@@ -1,0 +1,44 @@
+# tethersim: `make run` sets everything up and runs the default scene; `make test` sets up
+# and runs the tests. Both are idempotent: a step runs again only when its inputs changed.
+
+PYTHON ?= python3.11
+VENV := .venv
+STAMP_VENV := $(VENV)/.requirements-installed
+STAMP_BUILD := install/.build-stamp
+SCENE ?= default
+ARGS ?=
+
+export AMENT_PREFIX_PATH := $(CURDIR)/$(VENV)
+
+PKG_SOURCES := $(shell find src -type f \( -name '*.msg' -o -name 'CMakeLists.txt' -o -name 'package.xml' -o -name 'setup.py' -o -name 'setup.cfg' -o -path '*/scenes/*' \) 2>/dev/null)
+
+.PHONY: setup build run test bench clean
+
+setup: $(STAMP_BUILD)
+
+$(STAMP_VENV): requirements.txt
+	@test -x $(VENV)/bin/python || $(PYTHON) -m venv $(VENV)
+	$(VENV)/bin/python -m pip install --quiet --upgrade pip
+	$(VENV)/bin/python -m pip install --quiet -r requirements.txt
+	@touch $@
+
+$(STAMP_BUILD): $(STAMP_VENV) $(PKG_SOURCES) cmake/wheel_include_fix.cmake
+	. $(VENV)/bin/activate && colcon --log-base build/log build --base-paths src --symlink-install \
+		--event-handlers console_cohesion- status- \
+		--cmake-args -DCMAKE_PROJECT_INCLUDE=$(CURDIR)/cmake/wheel_include_fix.cmake \
+		-DPython3_EXECUTABLE=$(CURDIR)/$(VENV)/bin/python -DBUILD_TESTING=OFF
+	@touch $@
+
+build: $(STAMP_BUILD)
+
+run: $(STAMP_BUILD)
+	./tethersim run $(SCENE) $(ARGS)
+
+test: $(STAMP_BUILD)
+	./tethersim-env python -m pytest -q src test $(ARGS)
+
+bench: $(STAMP_BUILD)
+	./tethersim-env python bench/run_all.py
+
+clean:
+	rm -rf build install log $(VENV)

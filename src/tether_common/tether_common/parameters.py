@@ -1,0 +1,116 @@
+"""Parameter specifications shared by a node and the scene validator.
+
+A node's parameters are written once, as a tuple of :class:`ParamSpec`, in a module of
+its package that does not import rclpy (``<package>/<executable>_params.py``). The node
+declares them with descriptors and ranges (:mod:`tether_common.ros_parameters`); the
+bringup validates a scene's values against the same specification before anything starts.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+ParamValue = bool | int | float | str | list
+
+
+@dataclass(frozen=True)
+class ParamSpec:
+    """One node parameter: name, default, unit, allowed range or choices.
+
+    The type is the type of ``default``: bool, int, float, str, or a list of one of these
+    (an empty list default needs ``item_type``).
+    """
+
+    name: str
+    default: ParamValue
+    description: str
+    unit: str = ''
+    low: float | None = None
+    high: float | None = None
+    choices: tuple[str, ...] = ()
+    item_type: type | None = None
+    read_only: bool = False
+    extra: dict = field(default_factory=dict, compare=False)
+
+    @property
+    def kind(self) -> type:
+        """The Python type a value must have (``list`` for arrays)."""
+        return type(self.default)
+
+    @property
+    def element_type(self) -> type | None:
+        """The type of an array's items, or None for scalars."""
+        if not isinstance(self.default, list):
+            return None
+        if self.item_type is not None:
+            return self.item_type
+        if not self.default:
+            raise ValueError(f'parameter {self.name}: an empty list default needs item_type')
+        return type(self.default[0])
+
+    def expected(self) -> str:
+        """Describe the accepted values in a few words, for error messages."""
+        kind = self.kind
+        if kind is list:
+            text = f'a list of {_type_name(self.element_type)}'
+        else:
+            text = _type_name(kind)
+        if self.choices:
+            text += ' from {' + ', '.join(self.choices) + '}'
+        if self.low is not None or self.high is not None:
+            low = '-inf' if self.low is None else f'{self.low:g}'
+            high = 'inf' if self.high is None else f'{self.high:g}'
+            text += f' in [{low}, {high}]'
+        if self.unit:
+            text += f' ({self.unit})'
+        return text
+
+    def check(self, value: object) -> str | None:
+        """Return why ``value`` is not acceptable, or None when it is."""
+        if self.kind is list:
+            if not isinstance(value, list):
+                return f'expected {self.expected()}, got {value!r}'
+            for item in value:
+                reason = self._check_scalar(item, self.element_type)
+                if reason:
+                    return reason
+            return None
+        return self._check_scalar(value, self.kind)
+
+    def coerce(self, value: object) -> ParamValue:
+        """Return ``value`` in the parameter's own type (an int given for a float)."""
+        if self.kind is float and isinstance(value, int) and not isinstance(value, bool):
+            return float(value)
+        if self.kind is list and self.element_type is float:
+            return [float(item) for item in value]
+        return value
+
+    def _check_scalar(self, value: object, kind: type | None) -> str | None:
+        ok = isinstance(value, kind) and not (kind is not bool and isinstance(value, bool))
+        if kind is float and isinstance(value, int) and not isinstance(value, bool):
+            ok = True
+        if not ok:
+            return f'expected {self.expected()}, got {value!r}'
+        if kind in (int, float):
+            if not math.isfinite(value):
+                return f'expected a finite number, got {value!r}'
+            if self.low is not None and value < self.low or self.high is not None and value > self.high:
+                return f'expected {self.expected()}, got {value!r}'
+        if self.choices and value not in self.choices:
+            return f'expected {self.expected()}, got {value!r}'
+        return None
+
+
+def _type_name(kind: type | None) -> str:
+    return {bool: 'a boolean', int: 'an integer', float: 'a number', str: 'a string'}.get(kind, str(kind))
+
+
+def spec_table(specs: tuple[ParamSpec, ...]) -> dict[str, ParamSpec]:
+    """Index specifications by name, refusing duplicates."""
+    table: dict[str, ParamSpec] = {}
+    for spec in specs:
+        if spec.name in table:
+            raise ValueError(f'parameter {spec.name} is specified twice')
+        table[spec.name] = spec
+    return table

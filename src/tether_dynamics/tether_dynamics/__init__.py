@@ -1,0 +1,1 @@
+"""Tether statics (catenary, heave robustness, reference length) and dynamics (finite elements) for tethersim."""
