@@ -7,7 +7,6 @@ file) is logged as one line and ends the process with status 2, without a traceb
 
 from __future__ import annotations
 
-import signal
 import sys
 from collections.abc import Callable
 
@@ -22,9 +21,7 @@ class ConfigurationError(Exception):
 
 def run_node(factory: Callable[[], Node], args: list[str] | None = None) -> int:
     """Build the node with ``factory`` and spin it until shutdown; return the exit status."""
-    rclpy.init(args=args, signal_handler_options=rclpy.signals.SignalHandlerOptions.NO)
-    signal.signal(signal.SIGTERM, _raise_interrupt)
-    signal.signal(signal.SIGINT, _raise_interrupt)
+    rclpy.init(args=args)
     node = None
     status = 0
     try:
@@ -40,7 +37,3 @@ def run_node(factory: Callable[[], Node], args: list[str] | None = None) -> int:
             node.destroy_node()
         rclpy.try_shutdown()
     return status
-
-
-def _raise_interrupt(signum, frame):
-    raise KeyboardInterrupt

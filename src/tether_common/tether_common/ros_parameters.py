@@ -10,7 +10,9 @@ from rcl_interfaces.msg import FloatingPointRange
 from rcl_interfaces.msg import IntegerRange
 from rcl_interfaces.msg import ParameterDescriptor
 from rcl_interfaces.msg import SetParametersResult
+from rclpy.exceptions import ParameterUninitializedException
 from rclpy.node import Node
+from rclpy.parameter import Parameter
 
 from tether_common.parameters import ParamSpec
 from tether_common.parameters import spec_table
@@ -20,7 +22,8 @@ def declare_parameters(node: Node, specs: tuple[ParamSpec, ...]) -> dict[str, ob
     """Declare every parameter of ``specs`` on ``node`` and return their current values."""
     table = spec_table(specs)
     for spec in specs:
-        node.declare_parameter(spec.name, spec.default, _descriptor(spec))
+        initial = spec.default if spec.default != [] else _ARRAY_TYPES[spec.element_type]
+        node.declare_parameter(spec.name, initial, _descriptor(spec))
 
     def on_set(parameters):
         for parameter in parameters:
@@ -35,12 +38,23 @@ def declare_parameters(node: Node, specs: tuple[ParamSpec, ...]) -> dict[str, ob
     node.add_on_set_parameters_callback(on_set)
     values = {}
     for spec in specs:
-        value = node.get_parameter(spec.name).value
+        try:
+            value = node.get_parameter(spec.name).value
+        except ParameterUninitializedException:
+            value = []
         reason = spec.check(value)
         if reason:
             raise ValueError(f'parameter {spec.name}: {reason}')
         values[spec.name] = spec.coerce(value)
     return values
+
+
+_ARRAY_TYPES = {
+    bool: Parameter.Type.BOOL_ARRAY,
+    int: Parameter.Type.INTEGER_ARRAY,
+    float: Parameter.Type.DOUBLE_ARRAY,
+    str: Parameter.Type.STRING_ARRAY,
+}
 
 
 def _descriptor(spec: ParamSpec) -> ParameterDescriptor:

@@ -1,0 +1,220 @@
+"""Run a scene: every node its own OS process, sim time from the bringup, one bag.
+
+Sequence: the recorder starts first and waits until every node of the scene is in the
+graph and subscribed to; then /clock starts, once every node has subscribed to it, so
+the bag holds all topics from the first message. The run ends at the scene's duration,
+on Ctrl-C or SIGTERM, or when a node dies; in every case the nodes are stopped, the
+recorder stops last and finalizes the bag, and no process is left behind.
+"""
+
+from __future__ import annotations
+
+import importlib
+import os
+import signal
+import sys
+import time
+from dataclasses import dataclass
+from pathlib import Path
+
+import yaml
+
+from tether_bringup.bag_info import bag_summary_lines
+from tether_bringup.bag_reader import resolve_bag
+from tether_bringup.environment import run_environment
+from tether_bringup.errors import RunError
+from tether_bringup.processes import ChildProcess
+from tether_bringup.scene import NodeConfig
+
+READY_TIMEOUT = 60.0
+CLOCK_SUBSCRIBER_TIMEOUT = 30.0
+PROGRESS_PERIOD = 0.5
+
+
+@dataclass
+class RunOptions:
+    """Where and how a run happens."""
+
+    out_dir: Path
+    domain_id: int | None = None
+    discovery: str = 'localhost'
+    exclude: tuple[str, ...] = ('/rosout', '/parameter_events')
+    reports: tuple[str, ...] = ()
+    title: str = ''
+
+
+class _Stop(Exception):
+    def __init__(self, signum: int) -> None:
+        self.signum = signum
+
+
+def _on_signal(signum, frame):
+    raise _Stop(signum)
+
+
+def execute(nodes: list[NodeConfig], source, options: RunOptions) -> int:
+    """Run ``nodes`` with ``source`` driving /clock; return the process exit status."""
+    out = options.out_dir
+    out.mkdir(parents=True, exist_ok=True)
+    env = run_environment(options.domain_id, options.discovery, str(out / 'logs' / 'ros'))
+    os.environ.update({key: env[key] for key in ('ROS_DOMAIN_ID', 'ROS_AUTOMATIC_DISCOVERY_RANGE', 'ROS_LOG_DIR')})
+    os.environ.pop('ROS_LOCALHOST_ONLY', None)
+
+    import rclpy
+    from rclpy.node import Node
+    from rclpy.signals import SignalHandlerOptions
+
+    previous = {sig: signal.signal(sig, _on_signal) for sig in (signal.SIGINT, signal.SIGTERM)}
+    children: list[ChildProcess] = []
+    recorder: ChildProcess | None = None
+    status = 0
+    failure: str | None = None
+    wall_start = time.monotonic()
+    rclpy.init(signal_handler_options=SignalHandlerOptions.NO)
+    node = Node('tethersim')
+    try:
+        source.attach(node)
+        ready_file = out / 'recorder.ready'
+        recorder = _start(out, env, NodeConfig(
+            name='recorder', command=[_recorder_program()],
+            parameters={'bag_directory': str(out / 'bag'), 'ready_file': str(ready_file),
+                        'expected_nodes': [n.name for n in nodes] + ['tethersim'],
+                        'exclude': list(options.exclude)}))
+        children.append(recorder)
+        for config in nodes:
+            children.append(_start(out, env, config))
+        _progress(f'{options.title}: {len(nodes)} node(s) started, waiting for the recorder')
+        _wait_for(lambda: ready_file.exists(), READY_TIMEOUT, children, node,
+                  'the recorder did not subscribe to every node within {:.0f} s')
+        expected = len(nodes) + 1
+        _wait_for(lambda: source.clock_publisher.get_subscription_count() >= expected,
+                  CLOCK_SUBSCRIBER_TIMEOUT, children, node,
+                  'not every node subscribed to /clock within {:.0f} s')
+        failure = _advance(source, children, node, options.title)
+        if failure:
+            status = 1
+    except _Stop as stop:
+        status = 128 + stop.signum
+        failure = f'interrupted by {signal.Signals(stop.signum).name} at sim time {source.sim_time:.2f} s'
+    except RunError as error:
+        status = 1
+        failure = str(error)
+    finally:
+        source.clock.stop()
+        for sig in (signal.SIGINT, signal.SIGTERM):
+            signal.signal(sig, signal.SIG_IGN)
+        time.sleep(0.2)
+        for child in reversed(children):
+            if child is not recorder:
+                child.stop()
+        if recorder is not None:
+            recorder.stop(timeout=30.0)
+        node.destroy_node()
+        rclpy.try_shutdown()
+        for sig, handler in previous.items():
+            signal.signal(sig, handler)
+
+    wall = time.monotonic() - wall_start
+    lines = _summary(options, source, children, wall, failure)
+    if recorder is not None and recorder.returncode not in (0, None) and status == 0:
+        status = 1
+    bag_dir = out / 'bag'
+    if any(bag_dir.glob('*.mcap')):
+        lines += bag_summary_lines(bag_dir)
+        report_lines, report_failed = _reports(options.reports, bag_dir, out)
+        lines += report_lines
+        if report_failed and status == 0:
+            status = 1
+    text = '\n'.join(lines) + '\n'
+    (out / 'summary.txt').write_text(text)
+    print(text, end='', flush=True)
+    if failure:
+        print(f'tethersim: error: {failure}', file=sys.stderr, flush=True)
+    return status
+
+
+def _recorder_program() -> str:
+    from ament_index_python.packages import get_package_prefix
+    return str(Path(get_package_prefix('tether_bringup')) / 'lib' / 'tether_bringup' / 'recorder')
+
+
+def _start(out: Path, env: dict[str, str], config: NodeConfig) -> ChildProcess:
+    params_dir = out / 'params'
+    params_dir.mkdir(parents=True, exist_ok=True)
+    params_file = params_dir / f'{config.name}.yaml'
+    params = {'/**': {'ros__parameters': {**config.parameters, 'use_sim_time': config.name != 'recorder'}}}
+    params_file.write_text(yaml.safe_dump(params, sort_keys=False))
+    command = config.command + ['--ros-args', '-r', f'__node:={config.name}', '--params-file', str(params_file)]
+    return ChildProcess(config.name, command, out / 'logs' / f'{config.name}.log', env)
+
+
+def _check_children(children: list[ChildProcess]) -> None:
+    for child in children:
+        code = child.poll()
+        if code is not None and not child.stop_requested:
+            tail = '\n'.join(f'    {line}' for line in child.tail(10))
+            raise RunError(f'node {child.name} died with exit status {code}; last lines of {child.log_path}:\n{tail}')
+
+
+def _wait_for(condition, timeout: float, children, node, message: str) -> None:
+    import rclpy
+    deadline = time.monotonic() + timeout
+    while not condition():
+        _check_children(children)
+        if time.monotonic() > deadline:
+            raise RunError(message.format(timeout))
+        rclpy.spin_once(node, timeout_sec=0.05)
+
+
+def _advance(source, children: list[ChildProcess], node, title: str) -> str | None:
+    next_check = time.monotonic()
+    interactive = sys.stderr.isatty()
+    last_line = 0.0
+    while source.step():
+        now = time.monotonic()
+        if now >= next_check:
+            next_check = now + PROGRESS_PERIOD
+            try:
+                _check_children(children)
+            except RunError as error:
+                return str(error)
+            if interactive or now - last_line >= 5.0:
+                last_line = now
+                _progress(f'{title}: sim {source.sim_time:8.2f} / {source.duration:.2f} s'
+                          f'   real-time factor {source.achieved_rate():6.2f}', interactive)
+    if interactive:
+        print(file=sys.stderr)
+    return None
+
+
+def _progress(text: str, interactive: bool = False) -> None:
+    print(('\r' if interactive else '') + text, end='' if interactive else '\n', file=sys.stderr, flush=True)
+
+
+def _summary(options: RunOptions, source, children, wall: float, failure: str | None) -> list[str]:
+    lines = [
+        f'{options.title}',
+        f'simulated {source.sim_time:.2f} s of {source.duration:.2f} s in {wall:.1f} s wall; '
+        f'achieved real-time factor {source.achieved_rate():.2f} (requested {source.clock.rate:g})',
+    ]
+    if failure:
+        lines.append(f'ended early: {failure.splitlines()[0]}')
+    lines.append(f'{"node":<20} {"exit":>5} {"cpu s":>8} {"peak RSS MB":>12}')
+    for child in children:
+        code = '-' if child.returncode is None else str(child.returncode)
+        lines.append(f'{child.name:<20} {code:>5} {child.cpu_time:8.2f} {child.peak_rss / 2**20:12.1f}')
+    return lines
+
+
+def _reports(reports: tuple[str, ...], bag_dir: Path, out: Path) -> tuple[list[str], bool]:
+    lines: list[str] = []
+    failed = False
+    for report in reports:
+        module_name, _, function_name = report.partition(':')
+        try:
+            function = getattr(importlib.import_module(module_name), function_name)
+            lines += list(function(str(resolve_bag(bag_dir)), str(out)))
+        except Exception as error:  # a report's failure must not hide the run's other results
+            lines.append(f'report {report} failed: {type(error).__name__}: {error}')
+            failed = True
+    return lines, failed

@@ -1,0 +1,178 @@
+"""The ``tethersim`` command line: run, replay, scenes, bag, and the analysis groups."""
+
+from __future__ import annotations
+
+import argparse
+import importlib
+import sys
+import time
+from pathlib import Path
+
+from tether_bringup.errors import TethersimError
+
+ANALYSIS_GROUPS = {
+    'catenary': ('tether_dynamics.catenary_cli', 'catenary statics, heave robustness, flying space (thesis Ch. 3)'),
+    'fem': ('tether_dynamics.fem_cli', 'finite-element tether dynamics, the Chapter 9 pendulum'),
+    'psr': ('psr_platform_sim.cli', '3-PSR wave replicator: workspace and design optimization (Ch. 2)'),
+}
+
+
+class _Parser(argparse.ArgumentParser):
+    def error(self, message: str) -> None:
+        self.exit(2, f'{self.prog}: error: {message}\n')
+
+
+def _positive(text: str) -> float:
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f'expected a number, got {text!r}') from None
+    if not value > 0 or value != value or value == float('inf'):
+        raise argparse.ArgumentTypeError(f'expected a positive number, got {text!r}')
+    return value
+
+
+def _domain(text: str) -> int:
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f'expected an integer, got {text!r}') from None
+    if not 0 <= value <= 232:
+        raise argparse.ArgumentTypeError(f'expected a ROS domain id in [0, 232], got {value}')
+    return value
+
+
+def _add_network(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument('--domain-id', type=_domain, default=None,
+                        help='ROS_DOMAIN_ID of the run (default: a private one picked per run)')
+    parser.add_argument('--discovery', choices=('localhost', 'subnet'), default='localhost',
+                        help='DDS discovery range: localhost (default) or subnet to span machines')
+
+
+def build_parser() -> argparse.ArgumentParser:
+    parser = _Parser(prog='tethersim', description='Tethered UAV over a USV with a smart reel, as a ROS 2 node graph.')
+    commands = parser.add_subparsers(dest='command', required=True, parser_class=_Parser)
+
+    run = commands.add_parser('run', help='run a scene and record it')
+    run.add_argument('scene', nargs='?', default='default', help='scene name (see `tethersim scenes`) or YAML file')
+    run.add_argument('--duration', type=_positive, help='sim time to run, s (default: the scene\'s)')
+    run.add_argument('--rate', type=_positive, help='real-time factor (default: the scene\'s)')
+    run.add_argument('--out', type=Path, help='run directory (default: runs/<scene>-<time>)')
+    _add_network(run)
+
+    replay = commands.add_parser('replay', help='republish a bag with /clock from it, recording a new bag')
+    replay.add_argument('bag', help='bag file, bag directory or run directory')
+    replay.add_argument('--topics', nargs='+', help='replay only these topics')
+    replay.add_argument('--rate', type=_positive, default=1.0, help='real-time factor (default 1)')
+    replay.add_argument('--scene', help='also run the nodes of this scene (e.g. an estimator under test)')
+    replay.add_argument('--clock-step', type=_positive, default=0.01, help='s of bag time between /clock ticks')
+    replay.add_argument('--out', type=Path, help='run directory (default: runs/replay-<time>)')
+    _add_network(replay)
+
+    commands.add_parser('scenes', help='list the installed scenes')
+
+    bag = commands.add_parser('bag', help='inspect and export bags')
+    bag_commands = bag.add_subparsers(dest='bag_command', required=True, parser_class=_Parser)
+    info = bag_commands.add_parser('info', help='topics, types, counts, rates, duration')
+    info.add_argument('bag')
+    export = bag_commands.add_parser('export', help='one topic as CSV, one row per message')
+    export.add_argument('bag')
+    export.add_argument('--topic', required=True)
+    export.add_argument('--csv', required=True, type=Path)
+
+    for group, (_, help_text) in ANALYSIS_GROUPS.items():
+        commands.add_parser(group, help=help_text, add_help=False)
+    return parser
+
+
+def _default_out(name: str) -> Path:
+    return Path('runs') / f'{name}-{time.strftime("%Y%m%d-%H%M%S")}'
+
+
+def _run(args) -> int:
+    from tether_bringup.bringup import RunOptions
+    from tether_bringup.bringup import execute
+    from tether_bringup.scene import find_scene
+    from tether_bringup.scene import load_scene
+    from tether_bringup.time_sources import PacedClock
+
+    scene = load_scene(find_scene(args.scene))
+    duration = args.duration or scene.duration
+    rate = args.rate or scene.rate
+    source = PacedClock(duration, scene.clock_step, rate)
+    options = RunOptions(out_dir=args.out or _default_out(scene.name), domain_id=args.domain_id,
+                         discovery=args.discovery, exclude=tuple(scene.exclude), reports=tuple(scene.reports),
+                         title=f'tethersim run {scene.name}')
+    return execute(scene.nodes, source, options)
+
+
+def _replay(args) -> int:
+    from tether_bringup.bag_reader import read_bag
+    from tether_bringup.bringup import RunOptions
+    from tether_bringup.bringup import execute
+    from tether_bringup.errors import BagError
+    from tether_bringup.scene import find_scene
+    from tether_bringup.scene import load_scene
+    from tether_bringup.time_sources import BagPlayback
+
+    bag = read_bag(args.bag, topics=args.topics)
+    missing = [t for t in args.topics or [] if t not in bag.topics]
+    if missing:
+        raise BagError(f'{bag.path}: no messages on {", ".join(missing)} (topics: {", ".join(sorted(read_bag(args.bag).topics))})')
+    topics = {name: (t.type_name, t.qos) for name, t in bag.topics.items() if name != '/clock'}
+    messages = [m for m in bag.messages if m.topic != '/clock']
+    if not messages:
+        raise BagError(f'{bag.path}: nothing to replay')
+    nodes, exclude, reports, name = [], ['/rosout', '/parameter_events'], [], 'replay'
+    if args.scene:
+        scene = load_scene(find_scene(args.scene))
+        nodes, exclude, reports, name = scene.nodes, scene.exclude, scene.reports, f'replay-{scene.name}'
+    source = BagPlayback(messages, topics, args.clock_step, args.rate)
+    options = RunOptions(out_dir=args.out or _default_out(name), domain_id=args.domain_id,
+                         discovery=args.discovery, exclude=tuple(exclude), reports=tuple(reports),
+                         title=f'tethersim replay {bag.path.name}')
+    return execute(nodes, source, options)
+
+
+def _scenes(args) -> int:
+    from tether_bringup.scene import list_scenes
+    entries = list_scenes()
+    width = max((len(name) for name, _ in entries), default=0)
+    for name, description in entries:
+        print(f'{name:<{width}}  {description}')
+    return 0
+
+
+def _bag(args) -> int:
+    from tether_bringup.bag_info import bag_summary_lines
+    from tether_bringup.bag_info import export_csv
+    if args.bag_command == 'info':
+        print('\n'.join(bag_summary_lines(args.bag)))
+        return 0
+    rows = export_csv(args.bag, args.topic, args.csv)
+    print(f'wrote {rows} rows of {args.topic} to {args.csv}')
+    return 0
+
+
+def main(argv: list[str] | None = None) -> int:
+    """Entry point of the ``tethersim`` command; returns the exit status."""
+    argv = sys.argv[1:] if argv is None else argv
+    if argv and argv[0] in ANALYSIS_GROUPS:
+        module_name = ANALYSIS_GROUPS[argv[0]][0]
+        try:
+            module = importlib.import_module(module_name)
+        except ModuleNotFoundError:
+            print(f'tethersim: error: the {argv[0]} commands are not installed ({module_name})', file=sys.stderr)
+            return 2
+        return module.main(argv[1:])
+    args = build_parser().parse_args(argv)
+    handlers = {'run': _run, 'replay': _replay, 'scenes': _scenes, 'bag': _bag}
+    try:
+        return handlers[args.command](args)
+    except TethersimError as error:
+        print(f'tethersim: error: {error}', file=sys.stderr)
+        return 2
+
+
+if __name__ == '__main__':
+    sys.exit(main())

@@ -1,0 +1,132 @@
+"""Record every topic of the graph, serialized, into one rosbag2-compatible MCAP.
+
+The recorder discovers topics by polling the ROS graph, subscribes to each with the QoS
+its publishers offer (best effort if any publisher is best effort, transient local if all
+are) and ``raw=True``, and writes the CDR bytes untouched. Log and publish times are sim
+time: the latest ``/clock`` received. Once every expected node is in the graph and no new
+topic appeared for ``settle_time``, it writes ``ready_file`` so that the bringup can start
+the clock: nothing published on a sim-time timer is missed.
+"""
+
+from __future__ import annotations
+
+import importlib
+import sys
+import time
+from pathlib import Path
+
+from rclpy.node import Node
+from rclpy.qos import DurabilityPolicy
+from rclpy.qos import HistoryPolicy
+from rclpy.qos import QoSProfile
+from rclpy.qos import ReliabilityPolicy
+from rclpy.serialization import deserialize_message
+from rosgraph_msgs.msg import Clock
+
+from tether_bringup.bag_writer import BagWriter
+from tether_bringup.bag_writer import QosRecord
+from tether_bringup.recorder_params import PARAMETERS
+from tether_common.node_main import run_node
+from tether_common.ros_parameters import declare_parameters
+
+_RELIABILITY = {ReliabilityPolicy.RELIABLE: 'reliable', ReliabilityPolicy.BEST_EFFORT: 'best_effort'}
+_DURABILITY = {DurabilityPolicy.VOLATILE: 'volatile', DurabilityPolicy.TRANSIENT_LOCAL: 'transient_local'}
+
+
+def message_class(type_name: str):
+    """Import the Python class of ``pkg/msg/Type``."""
+    package, _, name = type_name.split('/')
+    return getattr(importlib.import_module(f'{package}.msg'), name)
+
+
+def qos_record(profile) -> QosRecord:
+    """Translate an offered rclpy QoS profile into rosbag2's YAML words."""
+    return QosRecord(
+        history='keep_last' if profile.history != HistoryPolicy.KEEP_ALL else 'keep_all',
+        depth=max(profile.depth, 1) if profile.history != HistoryPolicy.KEEP_ALL else 0,
+        reliability=_RELIABILITY.get(profile.reliability, 'reliable'),
+        durability=_DURABILITY.get(profile.durability, 'volatile'),
+    )
+
+
+def type_hash_string(type_hash) -> str:
+    """Format an rclpy TypeHash as REP-2011 ``RIHS01_<hex>`` (empty if unknown)."""
+    if type_hash is None or type_hash.version != 1:
+        return ''
+    return f'RIHS01_{type_hash.value.hex()}'
+
+
+class Recorder(Node):
+    """Subscribe to every topic and write it to a :class:`BagWriter`."""
+
+    def __init__(self) -> None:
+        super().__init__('recorder')
+        self.params = declare_parameters(self, PARAMETERS)
+        self.bag = BagWriter(self.params['bag_directory'], flush_period=self.params['flush_period'])
+        self.sim_time_ns = 0
+        self._subscriptions_by_topic = {}
+        self._last_change = time.monotonic()
+        self._ready = False
+        self._expected = set(self.params['expected_nodes'])
+        self._subscribe('/clock', 'rosgraph_msgs/msg/Clock', [QosRecord(depth=1)], '')
+        self.create_timer(self.params['discovery_period'], self.discover)
+
+    def discover(self) -> None:
+        """Subscribe to new topics; report readiness once the graph has settled."""
+        for topic, types in self.get_topic_names_and_types():
+            if topic in self._subscriptions_by_topic or topic in self.params['exclude']:
+                continue
+            publishers = self.get_publishers_info_by_topic(topic)
+            if not publishers or len(types) != 1:
+                continue
+            qos = [qos_record(info.qos_profile) for info in publishers]
+            self._subscribe(topic, types[0], qos, type_hash_string(publishers[0].topic_type_hash))
+            self._last_change = time.monotonic()
+        self.bag.maybe_flush()
+        if not self._ready and self.params['ready_file']:
+            present = {name for name, _ in self.get_node_names_and_namespaces()}
+            settled = time.monotonic() - self._last_change >= self.params['settle_time']
+            if self._expected <= present and settled:
+                self._ready = True
+                Path(self.params['ready_file']).write_text('\n'.join(sorted(self._subscriptions_by_topic)) + '\n')
+
+    def _subscribe(self, topic: str, type_name: str, qos: list[QosRecord], type_hash: str) -> None:
+        try:
+            msg_type = message_class(type_name)
+        except (ImportError, AttributeError, ValueError):
+            self.get_logger().warning(f'not recording {topic}: message type {type_name} is not installed')
+            self._subscriptions_by_topic[topic] = None
+            return
+        self.bag.add_topic(topic, type_name, qos, type_hash)
+        best_effort = any(record.reliability == 'best_effort' for record in qos)
+        latched = all(record.durability == 'transient_local' for record in qos)
+        profile = QoSProfile(
+            history=HistoryPolicy.KEEP_LAST,
+            depth=self.params['queue_depth'],
+            reliability=ReliabilityPolicy.BEST_EFFORT if best_effort else ReliabilityPolicy.RELIABLE,
+            durability=DurabilityPolicy.TRANSIENT_LOCAL if latched else DurabilityPolicy.VOLATILE,
+        )
+        is_clock = topic == '/clock'
+
+        def on_message(data: bytes) -> None:
+            if is_clock:
+                stamp = deserialize_message(data, Clock).clock
+                self.sim_time_ns = max(self.sim_time_ns, stamp.sec * 1_000_000_000 + stamp.nanosec)
+            self.bag.write(topic, data, self.sim_time_ns)
+
+        self._subscriptions_by_topic[topic] = self.create_subscription(
+            msg_type, topic, on_message, profile, raw=True)
+
+    def destroy_node(self) -> None:
+        """Finalize the bag, then destroy the node."""
+        self.bag.close()
+        super().destroy_node()
+
+
+def main(args=None) -> None:
+    """Run the recorder until shutdown; the bag is finalized on every exit path."""
+    sys.exit(run_node(Recorder, args))
+
+
+if __name__ == '__main__':
+    main()

@@ -1,0 +1,16 @@
+"""Parameters of the recorder node (no rclpy import; shared with the scene validator)."""
+
+from __future__ import annotations
+
+from tether_common.parameters import ParamSpec
+
+PARAMETERS = (
+    ParamSpec('bag_directory', 'bag', 'Directory of the rosbag2 bag to write (created)'),
+    ParamSpec('exclude', ['/rosout', '/parameter_events'], 'Topics not recorded'),
+    ParamSpec('expected_nodes', [], 'Node names to wait for before reporting ready', item_type=str),
+    ParamSpec('ready_file', '', 'File written with the recorded topics once subscribed'),
+    ParamSpec('discovery_period', 0.1, 'Period of the topic discovery', 's', 0.01, 5.0),
+    ParamSpec('settle_time', 0.5, 'Quiet time of the graph before reporting ready', 's', 0.0, 10.0),
+    ParamSpec('flush_period', 1.0, 'Longest time data waits in an unwritten chunk', 's', 0.05, 10.0),
+    ParamSpec('queue_depth', 1000, 'Subscription queue depth per topic', '', 1, 100000),
+)

@@ -1,0 +1,125 @@
+"""What drives sim time in a run: a paced clock, or a recorded bag played back.
+
+Both publish ``/clock`` from the bringup process and advance one tick per :meth:`step`;
+``step`` returns False once the source is exhausted.
+"""
+
+from __future__ import annotations
+
+from rclpy.node import Node
+from rclpy.qos import DurabilityPolicy
+from rclpy.qos import HistoryPolicy
+from rclpy.qos import QoSProfile
+from rclpy.qos import ReliabilityPolicy
+from rosgraph_msgs.msg import Clock
+
+from tether_bringup.bag_reader import BagMessage
+from tether_bringup.bag_writer import QosRecord
+from tether_bringup.recorder_node import message_class
+from tether_bringup.sim_clock import SimClock
+
+CLOCK_QOS = QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=10, reliability=ReliabilityPolicy.RELIABLE)
+
+
+def clock_message(time_ns: int) -> Clock:
+    """Build a /clock message for ``time_ns`` nanoseconds of sim time."""
+    message = Clock()
+    message.clock.sec, message.clock.nanosec = divmod(int(time_ns), 1_000_000_000)
+    return message
+
+
+class PacedClock:
+    """Publish /clock every ``step`` seconds of sim time at ``rate`` times real time."""
+
+    def __init__(self, duration: float, step: float, rate: float) -> None:
+        self.duration = duration
+        self.clock = SimClock(step, rate)
+        self._publisher = None
+
+    def attach(self, node: Node) -> None:
+        """Create the /clock publisher on the bringup's node."""
+        self._publisher = node.create_publisher(Clock, '/clock', CLOCK_QOS)
+
+    @property
+    def clock_publisher(self):
+        return self._publisher
+
+    @property
+    def sim_time(self) -> float:
+        return self.clock.sim_time
+
+    def achieved_rate(self) -> float:
+        return self.clock.achieved_rate()
+
+    def step(self) -> bool:
+        if self.clock.sim_time >= self.duration - 1e-12:
+            return False
+        sim_time = self.clock.next_tick()
+        self._publisher.publish(clock_message(round(sim_time * 1e9)))
+        return True
+
+
+def _profile(records: list[QosRecord]) -> QoSProfile:
+    best_effort = any(record.reliability == 'best_effort' for record in records)
+    latched = bool(records) and all(record.durability == 'transient_local' for record in records)
+    return QoSProfile(
+        history=HistoryPolicy.KEEP_LAST, depth=100,
+        reliability=ReliabilityPolicy.BEST_EFFORT if best_effort else ReliabilityPolicy.RELIABLE,
+        durability=DurabilityPolicy.TRANSIENT_LOCAL if latched else DurabilityPolicy.VOLATILE)
+
+
+class BagPlayback:
+    """Republish a bag's serialized messages with /clock taken from the bag's log times.
+
+    Messages go out with the QoS their publishers offered when recorded. /clock ticks every
+    ``step`` seconds of bag time and at each message's log time; a recorded /clock topic is
+    not republished (the ticks replace it), as ``ros2 bag play --clock`` does.
+    """
+
+    def __init__(self, messages: list[BagMessage], topics: dict[str, tuple[str, list[QosRecord]]],
+                 step: float, rate: float) -> None:
+        self._messages = messages
+        self._topics = topics
+        self.step_ns = round(step * 1e9)
+        self.start_ns = messages[0].log_time if messages else 0
+        self.end_ns = messages[-1].log_time if messages else 0
+        self.duration = (self.end_ns - self.start_ns) / 1e9
+        self.clock = SimClock(step, rate)
+        self._index = 0
+        self._now_ns = self.start_ns - 1
+        self._publishers = {}
+        self._clock_publisher = None
+
+    def attach(self, node: Node) -> None:
+        """Create /clock and one publisher per replayed topic on the bringup's node."""
+        self._clock_publisher = node.create_publisher(Clock, '/clock', CLOCK_QOS)
+        for topic, (type_name, qos) in self._topics.items():
+            self._publishers[topic] = node.create_publisher(message_class(type_name), topic, _profile(qos))
+
+    @property
+    def clock_publisher(self):
+        return self._clock_publisher
+
+    @property
+    def sim_time(self) -> float:
+        return max(0, self._now_ns - self.start_ns) / 1e9
+
+    def achieved_rate(self) -> float:
+        return self.clock.achieved_rate()
+
+    def step(self) -> bool:
+        if self._index >= len(self._messages):
+            return False
+        self.clock.next_tick()
+        tick_end = self.start_ns + self.clock.ticks * self.step_ns
+        while self._index < len(self._messages) and self._messages[self._index].log_time <= tick_end:
+            message = self._messages[self._index]
+            if message.log_time > self._now_ns:
+                self._now_ns = message.log_time
+                self._clock_publisher.publish(clock_message(self._now_ns))
+            self._publishers[message.topic].publish(message.data)
+            self._index += 1
+        if tick_end > self._now_ns:
+            self._now_ns = tick_end
+            self._clock_publisher.publish(clock_message(self._now_ns))
+        return True
