@@ -1,0 +1,151 @@
+"""Failure paths of the bringup: bad scenes, a crashing node, Ctrl-C/SIGTERM, a killed recorder.
+
+Each must give a short message naming the problem and a non-zero exit status, leave no
+process behind, and (once recording started) leave a bag readers can open.
+"""
+
+from __future__ import annotations
+
+import json
+import signal
+import time
+from pathlib import Path
+
+import pytest
+from mcap.reader import NonSeekingReader
+
+from tether_bringup.bag_reader import read_bag
+
+from conftest import processes_of
+from conftest import start_tethersim
+from conftest import tethersim
+
+NODES = Path(__file__).resolve().parent / 'nodes'
+TALKER = f'  talker:\n    script: {NODES / "test_talker.py"}\n'
+
+BAD_SCENES = [
+    ('unknown top-level key', f'description: x\ndurration: 5\nnodes:\n{TALKER}', 'durration: unknown key'),
+    ('wrong type', f'description: x\nduration: fast\nnodes:\n{TALKER}', "duration: expected a number"),
+    ('out of range', f'description: x\nrate: -1\nnodes:\n{TALKER}', 'rate: expected a number in [0.001, 1000]'),
+    ('missing description', f'nodes:\n{TALKER}', 'description: missing'),
+    ('no nodes', 'description: x\nnodes: {}\n', 'nodes: expected a mapping'),
+    ('missing script', 'description: x\nnodes:\n  talker:\n    script: nowhere.py\n', 'nodes.talker.script: file not found'),
+    ('unknown node key', f'description: x\nnodes:\n{TALKER}    params: {{}}\n', 'nodes.talker.params: unknown key'),
+    ('invalid yaml', 'description: [x\nnodes: 3\n', 'not valid YAML'),
+    ('unknown package', 'description: x\nnodes:\n  a:\n    package: no_such_pkg\n    executable: b\n',
+     "nodes.a.package: package 'no_such_pkg' is not installed"),
+    ('unknown executable', 'description: x\nnodes:\n  a:\n    package: tether_bringup\n    executable: nope\n',
+     "nodes.a.executable: package tether_bringup has no executable 'nope'"),
+    ('unknown parameter', 'description: x\nnodes:\n  rec:\n    package: tether_bringup\n    executable: recorder\n'
+     '    parameters: {bogus: 1}\n', 'nodes.rec.parameters.bogus: unknown parameter of tether_bringup/recorder'),
+    ('parameter out of range', 'description: x\nnodes:\n  rec:\n    package: tether_bringup\n    executable: recorder\n'
+     '    parameters: {flush_period: 100}\n', 'nodes.rec.parameters.flush_period: expected a number in [0.05, 10] (s)'),
+]
+
+
+@pytest.mark.parametrize('text, expected', [(t, e) for _, t, e in BAD_SCENES], ids=[n for n, _, _ in BAD_SCENES])
+def test_bad_scene_gives_one_line_and_status_2(scene_file, tmp_path, text, expected):
+    path = scene_file(text)
+    result = tethersim('run', str(path), '--out', str(tmp_path / 'out'), timeout=60)
+    assert result.returncode == 2
+    lines = result.stderr.strip().splitlines()
+    assert len(lines) == 1, result.stderr
+    assert lines[0].startswith(f'tethersim: error: {path}: '), lines[0]
+    assert expected in lines[0]
+    assert not (tmp_path / 'out').exists()
+
+
+def test_missing_scene_name_lists_installed_scenes():
+    result = tethersim('run', 'no_such_scene', timeout=60)
+    assert result.returncode == 2
+    assert result.stderr.startswith('tethersim: error: no_such_scene: no such scene (installed scenes:')
+    assert 'Traceback' not in result.stderr
+
+
+def test_bad_command_line_values_give_one_line(tmp_path):
+    result = tethersim('run', 'default', '--rate', '-3', timeout=60)
+    assert result.returncode == 2
+    assert result.stderr.strip().splitlines() == ["tethersim run: error: argument --rate: expected a positive number, got '-3'"]
+    missing = tethersim('bag', 'info', str(tmp_path / 'nothing.mcap'), timeout=60)
+    assert missing.returncode == 2
+    assert missing.stderr.strip() == f'tethersim: error: {tmp_path / "nothing.mcap"}: no such bag'
+    garbage = tmp_path / 'garbage.mcap'
+    garbage.write_bytes(b'not an mcap file at all' * 10)
+    malformed = tethersim('bag', 'info', str(garbage), timeout=60)
+    assert malformed.returncode == 2
+    assert malformed.stderr.startswith(f'tethersim: error: {garbage}: not a readable MCAP file')
+    assert len(malformed.stderr.strip().splitlines()) == 1
+
+
+def test_crashing_node_stops_the_run_and_the_bag_is_finalized(scene_file, tmp_path):
+    path = scene_file('description: the talker dies at 1 s\nduration: 20\nrate: 2\nnodes:\n' + TALKER +
+                      '    parameters: {crash_at: 1.0}\n'
+                      f'  listener:\n    script: {NODES / "test_listener.py"}\n')
+    out = tmp_path / 'out'
+    result = tethersim('run', str(path), '--out', str(out), timeout=120)
+    assert result.returncode == 1
+    assert 'tethersim: error: node talker died with exit status 3' in result.stderr
+    assert 'crashing on purpose' in result.stderr
+    assert 'Traceback' not in result.stderr
+    bag = read_bag(out)
+    assert bag.complete
+    assert bag.topics['/test/estimate'].count >= 40
+    assert not processes_of(out)
+
+
+@pytest.mark.parametrize('signum, status', [(signal.SIGINT, 130), (signal.SIGTERM, 143)], ids=['SIGINT', 'SIGTERM'])
+def test_signal_to_bringup_finalizes_bag_and_leaves_no_process(scene_file, tmp_path, signum, status):
+    sent_log = tmp_path / 'sent.jsonl'
+    path = scene_file('description: long run to be interrupted\nduration: 600\nrate: 1\nnodes:\n' + TALKER +
+                      f'    parameters: {{sent_log: {sent_log}}}\n'
+                      f'  listener:\n    script: {NODES / "test_listener.py"}\n')
+    out = tmp_path / 'out'
+    bringup = start_tethersim('run', str(path), '--out', str(out))
+    _wait_for_lines(sent_log, 100, bringup)
+    assert len([p for p in processes_of(out) if p.pid != bringup.pid]) == 3
+    bringup.send_signal(signum)
+    stdout, stderr = bringup.communicate(timeout=60)
+    assert bringup.returncode == status, stderr
+    assert f'interrupted by {signal.Signals(signum).name}' in stderr
+    bag = read_bag(out)
+    assert bag.complete
+    assert bag.topics['/test/estimate'].count >= 50
+    assert not processes_of(out)
+
+
+def test_killed_recorder_loses_at_most_about_a_second(scene_file, tmp_path):
+    sent_log = tmp_path / 'sent.jsonl'
+    path = scene_file('description: the recorder is killed\nduration: 600\nrate: 1\nnodes:\n' + TALKER +
+                      f'    parameters: {{sent_log: {sent_log}}}\n')
+    out = tmp_path / 'out'
+    bringup = start_tethersim('run', str(path), '--out', str(out))
+    _wait_for_lines(sent_log, 300, bringup)
+    recorder = next(p for p in processes_of(out) if p.pid != bringup.pid and p.name() == 'recorder')
+    recorder.send_signal(signal.SIGKILL)
+    stdout, stderr = bringup.communicate(timeout=60)
+    sent_lines = sent_log.read_text().splitlines()
+    assert bringup.returncode == 1
+    assert 'node recorder died with exit status -9' in stderr
+    assert not processes_of(out)
+    with open(out / 'bag' / 'bag_0.mcap', 'rb') as stream:
+        stamps = []
+        try:
+            for _, channel, message in NonSeekingReader(stream).iter_messages(log_time_order=False):
+                if channel.topic == '/test/estimate':
+                    stamps.append(message.log_time)
+        except Exception:  # the file ends inside an unfinished chunk: everything before it was read
+            pass
+    bag = read_bag(out)
+    assert not bag.complete
+    assert len(stamps) == bag.topics['/test/estimate'].count > 0
+    sent_before_kill = [json.loads(line)['stamp'] for line in sent_lines if '/test/estimate' in line]
+    assert max(stamps) / 1e9 >= max(sent_before_kill) / 1e9 - 1.6
+
+
+def _wait_for_lines(path: Path, count: int, process, timeout: float = 90.0) -> None:
+    """Wait until the talker has logged ``count`` sent messages (sim time is running)."""
+    deadline = time.monotonic() + timeout
+    while not path.exists() or len(path.read_text().splitlines()) < count:
+        assert process.poll() is None, process.communicate()[1]
+        assert time.monotonic() < deadline, f'{path} did not reach {count} lines'
+        time.sleep(0.1)

@@ -1,0 +1,174 @@
+"""End to end: a scene of several processes is run, recorded, and every message decoded.
+
+The talker (test double) logs every message it publishes; the bag must hold all of them,
+equal field by field, when decoded by rosbags (AnyReader, learning the custom types from
+the bag) and by mcap + mcap-ros2-support. The file must carry rosbag2's layout.
+"""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import pytest
+import yaml
+from mcap.reader import make_reader
+from mcap_ros2.decoder import DecoderFactory
+from rosbags.highlevel import AnyReader
+
+from tether_bringup.bag_info import flatten
+
+from conftest import SCENES
+from conftest import processes_of
+from conftest import tethersim
+
+
+@pytest.fixture(scope='module')
+def recorded(tmp_path_factory):
+    run_dir = tmp_path_factory.mktemp('run')
+    sent_log = run_dir / 'sent.jsonl'
+    scene = yaml.safe_load((SCENES / 'talk_listen.yaml').read_text())
+    scene['nodes']['talker']['parameters']['sent_log'] = str(sent_log)
+    scene['nodes']['talker']['script'] = str(SCENES.parent / 'nodes' / 'test_talker.py')
+    scene['nodes']['listener']['script'] = str(SCENES.parent / 'nodes' / 'test_listener.py')
+    scene_path = run_dir / 'scene.yaml'
+    scene_path.write_text(yaml.safe_dump(scene))
+    result = tethersim('run', str(scene_path), '--out', str(run_dir / 'out'))
+    sent = [json.loads(line) for line in sent_log.read_text().splitlines()]
+    return result, run_dir / 'out', sent
+
+
+def test_run_exits_cleanly_and_leaves_bag_and_summary(recorded):
+    result, out, _ = recorded
+    assert result.returncode == 0, result.stderr
+    assert (out / 'bag' / 'bag_0.mcap').is_file()
+    assert (out / 'bag' / 'metadata.yaml').is_file()
+    summary = (out / 'summary.txt').read_text()
+    assert 'achieved real-time factor' in summary
+    for node in ('recorder', 'talker', 'listener'):
+        assert any(line.startswith(node) for line in summary.splitlines()), summary
+    assert not processes_of(out)
+
+
+def _by_topic(sent):
+    topics = {}
+    for entry in sent:
+        topics.setdefault(entry['topic'], []).append(entry)
+    return topics
+
+
+def test_rosbags_decodes_every_published_message(recorded):
+    _, out, sent = recorded
+    expected = _by_topic(sent)
+    with AnyReader([out / 'bag' / 'bag_0.mcap']) as reader:
+        decoded = {}
+        for connection, _, raw in reader.messages():
+            decoded.setdefault(connection.topic, []).append(reader.deserialize(raw, connection.msgtype))
+    estimates = decoded['/test/estimate']
+    assert len(estimates) == len(expected['/test/estimate']) == 100
+    for message, entry in zip(estimates, expected['/test/estimate']):
+        assert message.header.stamp.sec * 10**9 + message.header.stamp.nanosec == entry['stamp']
+        assert message.dz == entry['dz']
+        assert message.dz_rate == entry['dz_rate']
+        assert list(message.covariance) == entry['covariance']
+        assert message.rejected == entry['rejected']
+        assert message.rejection_reason == entry['rejection_reason']
+    imus = decoded['/test/imu']
+    assert [m.linear_acceleration.z for m in imus] == [e['az'] for e in expected['/test/imu']]
+    assert [m.mode for m in decoded['/test/uav_state']] == ['GUIDED']
+    echoes = decoded['/test/echo']
+    assert [e.point.x for e in echoes] == [e['dz'] for e in expected['/test/estimate']]
+
+
+def test_mcap_ros2_decodes_every_published_message(recorded):
+    _, out, sent = recorded
+    expected = _by_topic(sent)
+    with open(out / 'bag' / 'bag_0.mcap', 'rb') as stream:
+        reader = make_reader(stream, decoder_factories=[DecoderFactory()])
+        decoded = {}
+        for _, channel, _, message in reader.iter_decoded_messages():
+            decoded.setdefault(channel.topic, []).append(message)
+    assert [m.dz for m in decoded['/test/estimate']] == [e['dz'] for e in expected['/test/estimate']]
+    assert [list(m.covariance) for m in decoded['/test/estimate']] == [e['covariance'] for e in expected['/test/estimate']]
+    assert [m.linear_acceleration.z for m in decoded['/test/imu']] == [e['az'] for e in expected['/test/imu']]
+    clock = [m.clock.sec + m.clock.nanosec * 1e-9 for m in decoded['/clock']]
+    assert clock == sorted(clock) and clock[-1] == pytest.approx(2.0)
+
+
+def test_file_has_rosbag2_layout(recorded):
+    _, out, _ = recorded
+    with open(out / 'bag' / 'bag_0.mcap', 'rb') as stream:
+        reader = make_reader(stream)
+        header = reader.get_header()
+        summary = reader.get_summary()
+        metadata = {m.name: m.metadata for m in reader.iter_metadata()}
+    assert header.profile == 'ros2'
+    assert summary.statistics.message_count > 0
+    assert summary.chunk_indexes and all(c.compression == 'zstd' for c in summary.chunk_indexes)
+    schemas = {s.name: s for s in summary.schemas.values()}
+    assert schemas['tether_msgs/msg/RelativeEstimate'].encoding == 'ros2msg'
+    definition = schemas['tether_msgs/msg/RelativeEstimate'].data.decode()
+    assert '=' * 80 + '\nMSG: std_msgs/Header' in definition
+    assert 'MSG: builtin_interfaces/Time' in definition
+    channels = {c.topic: c for c in summary.channels.values()}
+    for channel in channels.values():
+        assert channel.message_encoding == 'cdr'
+        assert channel.metadata['topic_type_hash'].startswith('RIHS01_') or channel.topic == '/clock'
+    imu_qos = yaml.safe_load(channels['/test/imu'].metadata['offered_qos_profiles'])
+    estimate_qos = yaml.safe_load(channels['/test/estimate'].metadata['offered_qos_profiles'])
+    state_qos = yaml.safe_load(channels['/test/uav_state'].metadata['offered_qos_profiles'])
+    assert imu_qos[0]['reliability'] == 'best_effort'
+    assert estimate_qos[0]['reliability'] == 'reliable'
+    assert state_qos[0]['durability'] == 'transient_local'
+    bag_metadata = yaml.safe_load(metadata['rosbag2']['serialized_metadata'])['rosbag2_bagfile_information']
+    assert bag_metadata['version'] == 9
+    assert bag_metadata['storage_identifier'] == 'mcap'
+    counts = {t['topic_metadata']['name']: t['message_count'] for t in bag_metadata['topics_with_message_count']}
+    assert counts['/test/estimate'] == 100
+
+
+def test_bag_info_and_csv_export(recorded, tmp_path):
+    _, out, sent = recorded
+    info = tethersim('bag', 'info', str(out))
+    assert info.returncode == 0, info.stderr
+    line = next(line for line in info.stdout.splitlines() if line.startswith('/test/estimate'))
+    assert line.split()[1] == 'tether_msgs/msg/RelativeEstimate'
+    assert int(line.split()[2]) == 100
+    assert float(line.split()[3]) == pytest.approx(50.0, rel=0.02)
+    csv_path = tmp_path / 'estimate.csv'
+    export = tethersim('bag', 'export', str(out), '--topic', '/test/estimate', '--csv', str(csv_path))
+    assert export.returncode == 0, export.stderr
+    rows = csv_path.read_text().splitlines()
+    header = rows[0].split(',')
+    assert 'dz' in header and 'covariance[24]' in header and 'header.stamp.sec' in header
+    assert len(rows) == 101
+    first = dict(zip(header, rows[1].split(',')))
+    assert float(first['dz']) == _by_topic(sent)['/test/estimate'][0]['dz']
+
+
+def test_replay_republishes_equal_messages_and_records_node_under_test(recorded, tmp_path, scene_file):
+    _, out, _ = recorded
+    listener_only = scene_file(
+        'description: the listener alone, as a node under test\n'
+        'nodes:\n'
+        f'  listener:\n    script: {Path(__file__).parent / "nodes" / "test_listener.py"}\n')
+    replay_out = tmp_path / 'replay'
+    result = tethersim('replay', str(out), '--topics', '/test/estimate', '/test/imu', '/test/uav_state',
+                       '--scene', str(listener_only), '--rate', '4', '--out', str(replay_out))
+    assert result.returncode == 0, result.stderr
+
+    def decode(bag):
+        with AnyReader([bag]) as reader:
+            topics = {}
+            for connection, _, raw in reader.messages():
+                topics.setdefault(connection.topic, []).append(reader.deserialize(raw, connection.msgtype))
+            return topics
+
+    original = decode(out / 'bag' / 'bag_0.mcap')
+    replayed = decode(replay_out / 'bag' / 'bag_0.mcap')
+    for topic in ('/test/estimate', '/test/imu', '/test/uav_state'):
+        assert [flatten(m) for m in replayed[topic]] == [flatten(m) for m in original[topic]], topic
+    assert [e.point.x for e in replayed['/test/echo']] == [e.point.x for e in original['/test/echo']]
+    assert [e.header.stamp for e in replayed['/test/echo']] == [e.header.stamp for e in original['/test/echo']]
+    clock = [m.clock.sec + m.clock.nanosec * 1e-9 for m in replayed['/clock']]
+    assert clock[-1] == pytest.approx(original['/clock'][-1].clock.sec + original['/clock'][-1].clock.nanosec * 1e-9)
