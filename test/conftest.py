@@ -1,39 +1,10 @@
-"""Shared helpers of the cross-package tests: run the tethersim command line in a subprocess."""
+"""Fixtures of the cross-package tests."""
 
 from __future__ import annotations
 
-import os
-import subprocess
-import sys
 from pathlib import Path
 
-import psutil
 import pytest
-
-ROOT = Path(__file__).resolve().parent.parent
-SCENES = ROOT / 'test' / 'scenes'
-
-
-def tethersim(*args: str, timeout: float = 180.0, **kwargs) -> subprocess.CompletedProcess:
-    """Run ``tethersim ARGS`` in the current environment and capture its output."""
-    return subprocess.run([sys.executable, '-m', 'tether_bringup.cli', *args], capture_output=True,
-                          text=True, timeout=timeout, cwd=kwargs.pop('cwd', ROOT), **kwargs)
-
-
-def start_tethersim(*args: str, **kwargs) -> subprocess.Popen:
-    """Start ``tethersim ARGS`` without waiting for it."""
-    return subprocess.Popen([sys.executable, '-m', 'tether_bringup.cli', *args], stdout=subprocess.PIPE,
-                            stderr=subprocess.PIPE, text=True, cwd=ROOT, **kwargs)
-
-
-def processes_of(run_dir: Path) -> list[psutil.Process]:
-    """Processes still running whose command line names ``run_dir`` (the run's nodes)."""
-    found = []
-    for process in psutil.process_iter(['cmdline', 'pid']):
-        cmdline = ' '.join(process.info['cmdline'] or [])
-        if str(run_dir) in cmdline and process.info['pid'] != os.getpid():
-            found.append(process)
-    return found
 
 
 @pytest.fixture

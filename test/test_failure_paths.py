@@ -16,9 +16,9 @@ from mcap.reader import NonSeekingReader
 
 from tether_bringup.bag_reader import read_bag
 
-from conftest import processes_of
-from conftest import start_tethersim
-from conftest import tethersim
+from tethersim_testing import processes_of
+from tethersim_testing import start_tethersim
+from tethersim_testing import tethersim
 
 NODES = Path(__file__).resolve().parent / 'nodes'
 TALKER = f'  talker:\n    script: {NODES / "test_talker.py"}\n'

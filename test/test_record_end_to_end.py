@@ -8,6 +8,9 @@ the bag) and by mcap + mcap-ros2-support. The file must carry rosbag2's layout.
 from __future__ import annotations
 
 import json
+import os
+import subprocess
+import sys
 from pathlib import Path
 
 import pytest
@@ -17,10 +20,11 @@ from mcap_ros2.decoder import DecoderFactory
 from rosbags.highlevel import AnyReader
 
 from tether_bringup.bag_info import flatten
+from tether_bringup.bag_reader import read_bag
 
-from conftest import SCENES
-from conftest import processes_of
-from conftest import tethersim
+from tethersim_testing import SCENES
+from tethersim_testing import processes_of
+from tethersim_testing import tethersim
 
 
 @pytest.fixture(scope='module')
@@ -172,3 +176,25 @@ def test_replay_republishes_equal_messages_and_records_node_under_test(recorded,
     assert [e.header.stamp for e in replayed['/test/echo']] == [e.header.stamp for e in original['/test/echo']]
     clock = [m.clock.sec + m.clock.nanosec * 1e-9 for m in replayed['/clock']]
     assert clock[-1] == pytest.approx(original['/clock'][-1].clock.sec + original['/clock'][-1].clock.nanosec * 1e-9)
+
+
+def test_external_node_started_elsewhere_joins_the_run(tmp_path, scene_file):
+    """A node marked external is not started but waited for: a scene can span machines."""
+    path = scene_file('description: talker runs elsewhere\nduration: 1.0\nrate: 2\nnodes:\n'
+                      '  talker:\n    package: not_on_this_machine\n    executable: talker\n    external: true\n'
+                      f'  listener:\n    script: {Path(__file__).parent / "nodes" / "test_listener.py"}\n')
+    domain = str(50 + os.getpid() % 40)
+    env = dict(os.environ, ROS_DOMAIN_ID=domain, ROS_AUTOMATIC_DISCOVERY_RANGE='LOCALHOST')
+    remote = subprocess.Popen([sys.executable, str(Path(__file__).parent / 'nodes' / 'test_talker.py'),
+                               '--ros-args', '-r', '__node:=talker', '-p', 'use_sim_time:=true'],
+                              env=env, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    try:
+        result = tethersim('run', str(path), '--domain-id', domain, '--out', str(tmp_path / 'out'))
+    finally:
+        remote.terminate()
+        remote.wait(timeout=30)
+    assert result.returncode == 0, result.stderr
+    assert 'waiting for the recorder and the external node(s) talker' in result.stderr
+    bag = read_bag(tmp_path / 'out')
+    assert bag.topics['/test/estimate'].count == 50
+    assert bag.topics['/test/echo'].count == 50

@@ -27,6 +27,7 @@ from tether_bringup.processes import ChildProcess
 from tether_bringup.scene import NodeConfig
 
 READY_TIMEOUT = 60.0
+EXTERNAL_READY_TIMEOUT = 600.0
 CLOCK_SUBSCRIBER_TIMEOUT = 30.0
 PROGRESS_PERIOD = 0.5
 
@@ -82,9 +83,16 @@ def execute(nodes: list[NodeConfig], source, options: RunOptions) -> int:
                         'exclude': list(options.exclude)}))
         children.append(recorder)
         for config in nodes:
-            children.append(_start(out, env, config))
-        _progress(f'{options.title}: {len(nodes)} node(s) started, waiting for the recorder')
-        _wait_for(lambda: ready_file.exists(), READY_TIMEOUT, children, node,
+            if config.external:
+                (out / 'params').mkdir(parents=True, exist_ok=True)
+                _write_params(out / 'params' / f'{config.name}.yaml', config)
+            else:
+                children.append(_start(out, env, config))
+        external = [config.name for config in nodes if config.external]
+        waiting = f' and the external node(s) {", ".join(external)}' if external else ''
+        _progress(f'{options.title}: {len(children) - 1} node(s) started, '
+                  f'waiting for the recorder{waiting} (ROS_DOMAIN_ID={env["ROS_DOMAIN_ID"]})')
+        _wait_for(lambda: ready_file.exists(), EXTERNAL_READY_TIMEOUT if external else READY_TIMEOUT, children, node,
                   'the recorder did not subscribe to every node within {:.0f} s')
         expected = len(nodes) + 1
         _wait_for(lambda: source.clock_publisher.get_subscription_count() >= expected,
@@ -138,12 +146,16 @@ def _recorder_program() -> str:
     return str(Path(get_package_prefix('tether_bringup')) / 'lib' / 'tether_bringup' / 'recorder')
 
 
+def _write_params(path: Path, config: NodeConfig) -> None:
+    params = {'/**': {'ros__parameters': {**config.parameters, 'use_sim_time': config.name != 'recorder'}}}
+    path.write_text(yaml.safe_dump(params, sort_keys=False))
+
+
 def _start(out: Path, env: dict[str, str], config: NodeConfig) -> ChildProcess:
     params_dir = out / 'params'
     params_dir.mkdir(parents=True, exist_ok=True)
     params_file = params_dir / f'{config.name}.yaml'
-    params = {'/**': {'ros__parameters': {**config.parameters, 'use_sim_time': config.name != 'recorder'}}}
-    params_file.write_text(yaml.safe_dump(params, sort_keys=False))
+    _write_params(params_file, config)
     command = config.command + ['--ros-args', '-r', f'__node:={config.name}', '--params-file', str(params_file)]
     return ChildProcess(config.name, command, out / 'logs' / f'{config.name}.log', env)
 

@@ -11,6 +11,7 @@ A scene is YAML::
         package: psr_platform_sim
         executable: platform  # or `script: path/to/node.py`, relative to the scene file
         parameters: {...}     # validated against <package>/<executable>_params.py
+        external: false       # true: started elsewhere (another machine), waited for, not started
     record:
       exclude: [/rosout, /parameter_events]
     reports:
@@ -48,7 +49,7 @@ TOP_LEVEL = {
     'record': None,
     'reports': ParamSpec('reports', [], 'Report functions module:function', item_type=str),
 }
-NODE_KEYS = ('package', 'executable', 'script', 'parameters')
+NODE_KEYS = ('package', 'executable', 'script', 'parameters', 'external')
 RECORD_KEYS = {'exclude': ParamSpec('exclude', [], 'Topics not recorded', item_type=str)}
 DEFAULT_EXCLUDE = ['/rosout', '/parameter_events']
 
@@ -62,6 +63,7 @@ class NodeConfig:
     parameters: dict
     package: str = ''
     executable: str = ''
+    external: bool = False
 
 
 @dataclass
@@ -186,6 +188,9 @@ def _node_config(path: Path, name: object, settings: object, fail) -> NodeConfig
     parameters = settings.get('parameters') or {}
     if not isinstance(parameters, dict):
         raise fail(f'{key}.parameters', 'expected a mapping of parameter names to values')
+    external = settings.get('external', False)
+    if not isinstance(external, bool):
+        raise fail(f'{key}.external', f'expected true or false, got {external!r}')
 
     if 'script' in settings:
         if 'package' in settings or 'executable' in settings:
@@ -199,7 +204,8 @@ def _node_config(path: Path, name: object, settings: object, fail) -> NodeConfig
         for parameter, value in parameters.items():
             if not _is_ros_value(value):
                 raise fail(f'{key}.parameters.{parameter}', f'not a ROS parameter value: {value!r}')
-        return NodeConfig(name=name, command=[sys.executable, str(script_path)], parameters=parameters)
+        return NodeConfig(name=name, command=[sys.executable, str(script_path)], parameters=parameters,
+                          external=external)
 
     for required in ('package', 'executable'):
         if not isinstance(settings.get(required), str):
@@ -208,7 +214,10 @@ def _node_config(path: Path, name: object, settings: object, fail) -> NodeConfig
     try:
         prefix = Path(get_package_prefix(package))
     except (PackageNotFoundError, ValueError):
-        raise fail(f'{key}.package', f'package {package!r} is not installed') from None
+        if not external:
+            raise fail(f'{key}.package', f'package {package!r} is not installed') from None
+        return NodeConfig(name=name, command=[], parameters=parameters, package=package,
+                          executable=executable, external=True)
     program = prefix / 'lib' / package / executable
     if not program.is_file():
         raise fail(f'{key}.executable', f'package {package} has no executable {executable!r}')
@@ -228,7 +237,7 @@ def _node_config(path: Path, name: object, settings: object, fail) -> NodeConfig
             raise fail(f'{key}.parameters.{parameter}', reason)
         validated[parameter] = spec.coerce(value)
     return NodeConfig(name=name, command=[str(program)], parameters=validated,
-                      package=package, executable=executable)
+                      package=package, executable=executable, external=external)
 
 
 def _parameter_specs(package: str, executable: str) -> tuple[ParamSpec, ...] | None:

@@ -1,0 +1,47 @@
+"""ParamSpec: the checks the scene validator and the nodes share."""
+
+from __future__ import annotations
+
+import math
+
+import pytest
+
+from tether_common.parameters import ParamSpec
+from tether_common.parameters import spec_table
+
+
+def test_float_range_accepts_inside_and_ints_and_rejects_outside():
+    spec = ParamSpec('rate', 1.0, 'Real-time factor', '', 0.5, 10.0)
+    assert spec.check(2.5) is None
+    assert spec.check(3) is None
+    assert spec.coerce(3) == 3.0 and isinstance(spec.coerce(3), float)
+    assert spec.check(0.1) == 'expected a number in [0.5, 10], got 0.1'
+    assert spec.check(math.nan) == 'expected a finite number, got nan'
+    assert spec.check(True) == 'expected a number in [0.5, 10], got True'
+    assert spec.check('fast') == "expected a number in [0.5, 10], got 'fast'"
+
+
+def test_int_rejects_float_and_bool():
+    spec = ParamSpec('seed', 1, 'Seed', low=0)
+    assert spec.check(7) is None
+    assert spec.check(7.5) is not None
+    assert spec.check(False) is not None
+
+
+def test_choices_and_lists():
+    spec = ParamSpec('effects', ['drag'], 'Effects', choices=('drag', 'wind', 'damping'))
+    assert spec.check(['drag', 'wind']) is None
+    assert spec.check(['drag', 'lift']) == "expected a list of a string from {drag, wind, damping}, got 'lift'"
+    assert spec.check('drag') is not None
+    empty = ParamSpec('names', [], 'Names', item_type=str)
+    assert empty.check([]) is None and empty.element_type is str
+
+
+def test_empty_list_without_item_type_is_refused():
+    with pytest.raises(ValueError, match='needs item_type'):
+        ParamSpec('x', [], 'x').element_type
+
+
+def test_spec_table_refuses_duplicates():
+    with pytest.raises(ValueError, match='specified twice'):
+        spec_table((ParamSpec('a', 1, 'a'), ParamSpec('a', 2, 'b')))
