@@ -16,7 +16,8 @@ PKG_SOURCES := $(shell find src -type f \( -name '*.msg' -o -name 'CMakeLists.tx
 
 setup: $(STAMP_BUILD)
 
-$(STAMP_VENV): requirements.txt
+$(STAMP_VENV): requirements.txt tools/system-deps.sh
+	@tools/system-deps.sh $(PYTHON)
 	@test -x $(VENV)/bin/python || $(PYTHON) -m venv $(VENV)
 	$(VENV)/bin/python -m pip install --quiet --upgrade pip
 	$(VENV)/bin/python -m pip install --quiet -r requirements.txt
