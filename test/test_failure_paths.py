@@ -21,7 +21,7 @@ from tethersim_testing import start_tethersim
 from tethersim_testing import tethersim
 
 NODES = Path(__file__).resolve().parent / 'nodes'
-TALKER = f'  talker:\n    script: {NODES / "test_talker.py"}\n'
+TALKER = f'  talker:\n    script: {NODES / "talker_double.py"}\n'
 
 BAD_SCENES = [
     ('unknown top-level key', f'description: x\ndurration: 5\nnodes:\n{TALKER}', 'durration: unknown key'),
@@ -80,7 +80,7 @@ def test_bad_command_line_values_give_one_line(tmp_path):
 def test_crashing_node_stops_the_run_and_the_bag_is_finalized(scene_file, tmp_path):
     path = scene_file('description: the talker dies at 1 s\nduration: 20\nrate: 2\nnodes:\n' + TALKER +
                       '    parameters: {crash_at: 1.0}\n'
-                      f'  listener:\n    script: {NODES / "test_listener.py"}\n')
+                      f'  listener:\n    script: {NODES / "listener_double.py"}\n')
     out = tmp_path / 'out'
     result = tethersim('run', str(path), '--out', str(out), timeout=120)
     assert result.returncode == 1
@@ -98,7 +98,7 @@ def test_signal_to_bringup_finalizes_bag_and_leaves_no_process(scene_file, tmp_p
     sent_log = tmp_path / 'sent.jsonl'
     path = scene_file('description: long run to be interrupted\nduration: 600\nrate: 1\nnodes:\n' + TALKER +
                       f'    parameters: {{sent_log: {sent_log}}}\n'
-                      f'  listener:\n    script: {NODES / "test_listener.py"}\n')
+                      f'  listener:\n    script: {NODES / "listener_double.py"}\n')
     out = tmp_path / 'out'
     bringup = start_tethersim('run', str(path), '--out', str(out))
     _wait_for_lines(sent_log, 100, bringup)

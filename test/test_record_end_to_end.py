@@ -33,8 +33,8 @@ def recorded(tmp_path_factory):
     sent_log = run_dir / 'sent.jsonl'
     scene = yaml.safe_load((SCENES / 'talk_listen.yaml').read_text())
     scene['nodes']['talker']['parameters']['sent_log'] = str(sent_log)
-    scene['nodes']['talker']['script'] = str(SCENES.parent / 'nodes' / 'test_talker.py')
-    scene['nodes']['listener']['script'] = str(SCENES.parent / 'nodes' / 'test_listener.py')
+    scene['nodes']['talker']['script'] = str(SCENES.parent / 'nodes' / 'talker_double.py')
+    scene['nodes']['listener']['script'] = str(SCENES.parent / 'nodes' / 'listener_double.py')
     scene_path = run_dir / 'scene.yaml'
     scene_path.write_text(yaml.safe_dump(scene))
     result = tethersim('run', str(scene_path), '--out', str(run_dir / 'out'))
@@ -155,7 +155,7 @@ def test_replay_republishes_equal_messages_and_records_node_under_test(recorded,
     listener_only = scene_file(
         'description: the listener alone, as a node under test\n'
         'nodes:\n'
-        f'  listener:\n    script: {Path(__file__).parent / "nodes" / "test_listener.py"}\n')
+        f'  listener:\n    script: {Path(__file__).parent / "nodes" / "listener_double.py"}\n')
     replay_out = tmp_path / 'replay'
     result = tethersim('replay', str(out), '--topics', '/test/estimate', '/test/imu', '/test/uav_state',
                        '--scene', str(listener_only), '--rate', '4', '--out', str(replay_out))
@@ -182,10 +182,10 @@ def test_external_node_started_elsewhere_joins_the_run(tmp_path, scene_file):
     """A node marked external is not started but waited for: a scene can span machines."""
     path = scene_file('description: talker runs elsewhere\nduration: 1.0\nrate: 2\nnodes:\n'
                       '  talker:\n    package: not_on_this_machine\n    executable: talker\n    external: true\n'
-                      f'  listener:\n    script: {Path(__file__).parent / "nodes" / "test_listener.py"}\n')
+                      f'  listener:\n    script: {Path(__file__).parent / "nodes" / "listener_double.py"}\n')
     domain = str(50 + os.getpid() % 40)
     env = dict(os.environ, ROS_DOMAIN_ID=domain, ROS_AUTOMATIC_DISCOVERY_RANGE='LOCALHOST')
-    remote = subprocess.Popen([sys.executable, str(Path(__file__).parent / 'nodes' / 'test_talker.py'),
+    remote = subprocess.Popen([sys.executable, str(Path(__file__).parent / 'nodes' / 'talker_double.py'),
                                '--ros-args', '-r', '__node:=talker', '-p', 'use_sim_time:=true'],
                               env=env, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
     try:

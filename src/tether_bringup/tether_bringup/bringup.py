@@ -95,9 +95,9 @@ def execute(nodes: list[NodeConfig], source, options: RunOptions) -> int:
         _wait_for(lambda: ready_file.exists(), EXTERNAL_READY_TIMEOUT if external else READY_TIMEOUT, children, node,
                   'the recorder did not subscribe to every node within {:.0f} s')
         expected = len(nodes) + 1
-        _wait_for(lambda: source.clock_publisher.get_subscription_count() >= expected,
+        _wait_for(lambda: source.clock_publisher.get_subscription_count() >= expected and source.matched(node),
                   CLOCK_SUBSCRIBER_TIMEOUT, children, node,
-                  'not every node subscribed to /clock within {:.0f} s')
+                  'not every node subscribed to /clock and the replayed topics within {:.0f} s')
         failure = _advance(source, children, node, options.title)
         if failure:
             status = 1

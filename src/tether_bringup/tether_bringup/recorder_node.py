@@ -3,9 +3,10 @@
 The recorder discovers topics by polling the ROS graph, subscribes to each with the QoS
 its publishers offer (best effort if any publisher is best effort, transient local if all
 are) and ``raw=True``, and writes the CDR bytes untouched. Log and publish times are sim
-time: the latest ``/clock`` received. Once every expected node is in the graph and no new
-topic appeared for ``settle_time``, it writes ``ready_file`` so that the bringup can start
-the clock: nothing published on a sim-time timer is missed.
+time: the latest ``/clock`` received. Once every expected node is in the graph and the graph
+(nodes, topics, and the publisher and subscription count of each topic) has not changed for
+``settle_time``, it writes ``ready_file`` so that the bringup can start the clock: nothing
+published on a sim-time timer is missed.
 """
 
 from __future__ import annotations
@@ -66,6 +67,7 @@ class Recorder(Node):
         self.sim_time_ns = 0
         self._subscriptions_by_topic = {}
         self._last_change = time.monotonic()
+        self._graph_signature = None
         self._ready = False
         self._expected = set(self.params['expected_nodes'])
         self._subscribe('/clock', 'rosgraph_msgs/msg/Clock', [QosRecord(depth=1)], '')
@@ -81,10 +83,15 @@ class Recorder(Node):
                 continue
             qos = [qos_record(info.qos_profile) for info in publishers]
             self._subscribe(topic, types[0], qos, type_hash_string(publishers[0].topic_type_hash))
-            self._last_change = time.monotonic()
         self.bag.maybe_flush()
         if not self._ready and self.params['ready_file']:
             present = {name for name, _ in self.get_node_names_and_namespaces()}
+            signature = (frozenset(present), frozenset(
+                (topic, self.count_publishers(topic), self.count_subscribers(topic))
+                for topic, _ in self.get_topic_names_and_types()))
+            if signature != self._graph_signature:
+                self._graph_signature = signature
+                self._last_change = time.monotonic()
             settled = time.monotonic() - self._last_change >= self.params['settle_time']
             if self._expected <= present and settled:
                 self._ready = True

@@ -10,7 +10,7 @@ PARAMETERS = (
     ParamSpec('expected_nodes', [], 'Node names to wait for before reporting ready', item_type=str),
     ParamSpec('ready_file', '', 'File written with the recorded topics once subscribed'),
     ParamSpec('discovery_period', 0.1, 'Period of the topic discovery', 's', 0.01, 5.0),
-    ParamSpec('settle_time', 0.5, 'Quiet time of the graph before reporting ready', 's', 0.0, 10.0),
+    ParamSpec('settle_time', 1.0, 'Quiet time of the graph before reporting ready', 's', 0.0, 10.0),
     ParamSpec('flush_period', 1.0, 'Longest time data waits in an unwritten chunk', 's', 0.05, 10.0),
     ParamSpec('queue_depth', 1000, 'Subscription queue depth per topic', '', 1, 100000),
 )

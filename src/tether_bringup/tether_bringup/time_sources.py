@@ -44,6 +44,10 @@ class PacedClock:
     def clock_publisher(self):
         return self._publisher
 
+    def matched(self, node: Node) -> bool:
+        """The paced clock has no publishers but /clock (checked by the bringup)."""
+        return True
+
     @property
     def sim_time(self) -> float:
         return self.clock.sim_time
@@ -99,6 +103,11 @@ class BagPlayback:
     @property
     def clock_publisher(self):
         return self._clock_publisher
+
+    def matched(self, node: Node) -> bool:
+        """True once every replay publisher has matched every subscription in the graph."""
+        return all(publisher.get_subscription_count() >= node.count_subscribers(topic)
+                   for topic, publisher in self._publishers.items())
 
     @property
     def sim_time(self) -> float:

@@ -15,7 +15,7 @@ from tether_common.qos import STATE
 from tether_msgs.msg import RelativeEstimate
 
 
-class TestListener(Node):
+class ListenerDouble(Node):
 
     def __init__(self):
         super().__init__('test_listener')
@@ -34,4 +34,4 @@ class TestListener(Node):
 
 
 if __name__ == '__main__':
-    sys.exit(run_node(TestListener))
+    sys.exit(run_node(ListenerDouble))

@@ -15,6 +15,7 @@ from rclpy.node import Node
 from sensor_msgs.msg import Imu
 
 from tether_common.node_main import run_node
+from tether_common.sim_timer import SimTimer
 from tether_common.qos import LATCHED
 from tether_common.qos import SENSOR
 from tether_common.qos import STATE
@@ -22,7 +23,7 @@ from tether_msgs.msg import RelativeEstimate
 from tether_msgs.msg import UavState
 
 
-class TestTalker(Node):
+class TalkerDouble(Node):
 
     def __init__(self):
         super().__init__('test_talker')
@@ -39,12 +40,11 @@ class TestTalker(Node):
         state = UavState(connected=True, armed=False, ready=False, mode='GUIDED')
         self.state_pub.publish(state)
         self._record('/test/uav_state', {'mode': state.mode, 'connected': True})
-        self.create_timer(1.0 / self.get_parameter('rate').value, self.tick)
+        self.timer = SimTimer(self, 1.0 / self.get_parameter('rate').value, self.tick)
 
-    def tick(self):
-        now = self.get_clock().now()
+    def tick(self, now):
         if self.crash_at > 0 and now.nanoseconds >= self.crash_at * 1e9:
-            print('test_talker: crashing on purpose', flush=True)
+            print('talker_double: crashing on purpose', flush=True)
             os._exit(3)
         self.count += 1
         estimate = RelativeEstimate()
@@ -73,4 +73,4 @@ class TestTalker(Node):
 
 
 if __name__ == '__main__':
-    sys.exit(run_node(TestTalker))
+    sys.exit(run_node(TalkerDouble))
