@@ -39,7 +39,7 @@ test: $(STAMP_BUILD)
 	./tethersim-env python -m pytest -q src test $(ARGS)
 
 bench: $(STAMP_BUILD)
-	./tethersim-env python bench/run_all.py
+	@for bench in bench/*/run.py; do echo "== $$bench"; ./tethersim-env python $$bench || exit 1; done
 
 clean:
 	rm -rf build install log $(VENV)
