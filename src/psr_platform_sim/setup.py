@@ -19,6 +19,7 @@ setup(
     extras_require={'test': ['pytest']},
     entry_points={
         'console_scripts': [
+            'platform = psr_platform_sim.platform_node:main',
         ],
     },
 )

@@ -1,0 +1,115 @@
+"""ROS 2 node ``platform``: the 3-PSR replicator playing a wave or boat-motion profile.
+
+A thin wrapper around :class:`psr_platform_sim.simulator.PlatformSimulator`: sim-time
+timers (:class:`tether_common.sim_timer.SimTimer`, one call per elapsed tick with the
+tick's own time) sample the precomputed motion and publish
+
+* ``/platform/state`` (tether_msgs/PlatformState) and ``/platform/reel_pose``
+  (geometry_msgs/PoseStamped, frame ``world``) at ``state_rate``,
+* ``/platform/imu`` (sensor_msgs/Imu, frame ``boat``, FLU) at ``imu_rate``.
+
+Frames and angle conventions are those of :mod:`psr_platform_sim.simulator`.
+
+Profile time is sim time: the profile starts at sim time 0, so the messages and their
+stamps do not depend on when the process got to run.
+"""
+
+from __future__ import annotations
+
+import sys
+
+from geometry_msgs.msg import PoseStamped
+from rclpy.node import Node
+from rclpy.time import Time
+from sensor_msgs.msg import Imu
+from tether_msgs.msg import PlatformState
+
+from psr_platform_sim.platform_params import PARAMETERS
+from psr_platform_sim.simulator import ImuModel
+from psr_platform_sim.simulator import PlatformSimulator
+from psr_platform_sim.waves import ProfileError
+from tether_common.node_main import ConfigurationError
+from tether_common.node_main import run_node
+from tether_common.qos import SENSOR
+from tether_common.qos import STATE
+from tether_common.ros_parameters import declare_parameters
+from tether_common.sim_timer import SimTimer
+
+
+class PlatformNode(Node):
+    """Publishes the replicator's state, reel-mount pose and IMU from a motion profile."""
+
+    def __init__(self) -> None:
+        super().__init__('platform')
+        try:
+            params = declare_parameters(self, PARAMETERS)
+            self.sim = PlatformSimulator(params)
+        except (ProfileError, ValueError) as error:
+            raise ConfigurationError(str(error)) from None
+        self.imu_model = ImuModel(params['seed'], params['imu_gyro_noise'], params['imu_accel_noise'],
+                                  params['imu_gyro_bias'], params['imu_accel_bias'])
+        self.gyro_var = params['imu_gyro_noise'] ** 2
+        self.accel_var = params['imu_accel_noise'] ** 2
+        self.state_pub = self.create_publisher(PlatformState, '/platform/state', STATE)
+        self.pose_pub = self.create_publisher(PoseStamped, '/platform/reel_pose', STATE)
+        self.imu_pub = self.create_publisher(Imu, '/platform/imu', SENSOR)
+        self.state_timer = SimTimer(self, 1.0 / params['state_rate'], self.state_callback)
+        self.imu_timer = SimTimer(self, 1.0 / params['imu_rate'], self.imu_callback)
+        error = self.sim.tracking_error()
+        self.get_logger().info(
+            f'profile {self.sim.profile_name}: {self.sim.duration:.0f} s, '
+            f'{(1.0 - self.sim.inside.mean()) * 100:.1f} % of commands clipped to the workspace, '
+            f'{self.sim.limited_ticks} ticks speed/acceleration-limited; RMS tracking error '
+            f'heave {error["heave"] * 1000:.1f} mm, roll {error["roll"] * 57.2958:.3f} deg, '
+            f'pitch {error["pitch"] * 57.2958:.3f} deg')
+
+    def state_callback(self, tick: Time) -> None:
+        """Publish /platform/state and /platform/reel_pose for the tick's sim time."""
+        s = self.sim.sample(tick.nanoseconds * 1e-9)
+        stamp = tick.to_msg()
+        msg = PlatformState()
+        msg.header.stamp = stamp
+        msg.header.frame_id = 'world'
+        msg.slider_height = [float(v) for v in s.slider_height]
+        msg.slider_velocity = [float(v) for v in s.slider_velocity]
+        msg.heave, msg.roll, msg.pitch, msg.yaw = s.heave, s.roll, s.pitch, s.yaw
+        msg.surge, msg.sway = s.surge, s.sway
+        msg.heave_rate, msg.roll_rate, msg.pitch_rate, msg.yaw_rate = (
+            s.heave_rate, s.roll_rate, s.pitch_rate, s.yaw_rate)
+        msg.commanded_heave, msg.commanded_roll, msg.commanded_pitch = (
+            s.commanded_heave, s.commanded_roll, s.commanded_pitch)
+        msg.in_workspace = s.in_workspace
+        self.state_pub.publish(msg)
+        pose = PoseStamped()
+        pose.header.stamp = stamp
+        pose.header.frame_id = 'world'
+        pose.pose.position.x, pose.pose.position.y, pose.pose.position.z = (float(v) for v in s.position)
+        q = pose.pose.orientation
+        q.x, q.y, q.z, q.w = (float(v) for v in s.quaternion)
+        self.pose_pub.publish(pose)
+
+    def imu_callback(self, tick: Time) -> None:
+        """Publish /platform/imu: orientation (truth), noisy angular velocity and specific force."""
+        s = self.sim.sample(tick.nanoseconds * 1e-9)
+        gyro, accel = self.imu_model.measure(s)
+        msg = Imu()
+        msg.header.stamp = tick.to_msg()
+        msg.header.frame_id = 'boat'
+        q = msg.orientation
+        q.x, q.y, q.z, q.w = (float(v) for v in s.quaternion)
+        msg.orientation_covariance = [1e-6, 0.0, 0.0, 0.0, 1e-6, 0.0, 0.0, 0.0, 1e-6]
+        msg.angular_velocity.x, msg.angular_velocity.y, msg.angular_velocity.z = (float(v) for v in gyro)
+        msg.angular_velocity_covariance = [self.gyro_var, 0.0, 0.0, 0.0, self.gyro_var, 0.0, 0.0, 0.0, self.gyro_var]
+        msg.linear_acceleration.x, msg.linear_acceleration.y, msg.linear_acceleration.z = (float(v) for v in accel)
+        msg.linear_acceleration_covariance = [self.accel_var, 0.0, 0.0, 0.0, self.accel_var, 0.0, 0.0, 0.0,
+                                              self.accel_var]
+        self.imu_pub.publish(msg)
+
+
+def main(args=None):
+    """Run the platform node."""
+    sys.exit(run_node(PlatformNode, args))
+
+
+if __name__ == '__main__':
+    main()

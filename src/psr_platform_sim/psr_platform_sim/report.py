@@ -1,0 +1,70 @@
+"""After-run report of the platform: commanded vs. achieved roll, pitch and heave from a bag."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import matplotlib
+
+matplotlib.use('Agg')
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+from rosbags.highlevel import AnyReader  # noqa: E402
+from rosbags.highlevel import AnyReaderError  # noqa: E402
+
+TOPIC = '/platform/state'
+
+
+def _read_states(bag_path: Path) -> np.ndarray:
+    """Rows of (stamp, heave, roll, pitch, commanded heave, roll, pitch, in_workspace)."""
+    try:
+        with AnyReader([bag_path]) as reader:
+            connections = [c for c in reader.connections if c.topic == TOPIC]
+            rows = []
+            for connection, _, raw in reader.messages(connections=connections):
+                m = reader.deserialize(raw, connection.msgtype)
+                rows.append((m.header.stamp.sec + m.header.stamp.nanosec * 1e-9, m.heave, m.roll, m.pitch,
+                             m.commanded_heave, m.commanded_roll, m.commanded_pitch, float(m.in_workspace)))
+    except AnyReaderError as error:
+        raise ValueError(f'{bag_path}: cannot read the bag: {error}') from None
+    return np.array(rows, dtype=float).reshape(-1, 8)
+
+
+def tracking_report(bag_path: str, out_dir: str) -> list[str]:
+    """Plot commanded vs. achieved roll, pitch, heave from /platform/state; return RMS error lines.
+
+    Args:
+        bag_path: the run's rosbag2 MCAP file (or its directory).
+
+    Raises:
+        ValueError: the bag cannot be read.
+        out_dir: where ``platform_tracking.png`` is written.
+    """
+    data = _read_states(Path(bag_path))
+    out = Path(out_dir)
+    out.mkdir(parents=True, exist_ok=True)
+    if data.shape[0] == 0:
+        return [f'platform: no {TOPIC} messages in the bag']
+    t = data[:, 0] - data[0, 0]
+    error = data[:, 1:4] - data[:, 4:7]
+    rms = np.sqrt(np.mean(error**2, axis=0))
+    fig, axes = plt.subplots(3, 1, figsize=(10, 8), sharex=True)
+    for ax, i, label, scale in ((axes[0], 0, 'heave (m)', 1.0), (axes[1], 1, 'roll (deg)', np.degrees(1.0)),
+                                (axes[2], 2, 'pitch (deg)', np.degrees(1.0))):
+        ax.plot(t, data[:, 4 + i] * scale, color='tab:blue', lw=1.2, label='commanded')
+        ax.plot(t, data[:, 1 + i] * scale, color='tab:red', lw=0.8, ls='--', label='achieved')
+        ax.set_ylabel(label)
+        ax.grid(alpha=0.3)
+    axes[0].legend(loc='upper right')
+    axes[-1].set_xlabel('time (s)')
+    fig.suptitle('3-PSR platform: commanded vs. achieved (cf. Fig. 2.7)')
+    fig.tight_layout()
+    fig.savefig(out / 'platform_tracking.png', dpi=110)
+    plt.close(fig)
+    clipped = (1.0 - data[:, 7].mean()) * 100.0
+    return [f'platform: {data.shape[0]} states over {t[-1]:.1f} s; RMS tracking error heave '
+            f'{rms[0] * 1000:.1f} mm, roll {np.degrees(rms[1]):.3f} deg, pitch {np.degrees(rms[2]):.3f} deg',
+            f'platform: {clipped:.1f} % of states had the command clipped to the workspace; '
+            f'commanded roll range {np.degrees(data[:, 5].min()):+.1f}..{np.degrees(data[:, 5].max()):+.1f} deg, '
+            f'pitch {np.degrees(data[:, 6].min()):+.1f}..{np.degrees(data[:, 6].max()):+.1f} deg, '
+            f'heave {data[:, 4].min():+.2f}..{data[:, 4].max():+.2f} m']

@@ -1,0 +1,186 @@
+"""The replicator playing a motion profile, without ROS (thesis Sec. 2.6-2.8).
+
+The profile is sampled at the firmware's command rate, turned into slider heights
+through the lookup table (Eq. 2.17 refined on the exact kinematics) and clipped to the
+workspace; the sliders follow it with bounded speed and acceleration, smoothly between
+commands (cubic Hermite through the commanded positions and their fourth-order central
+difference velocities). The achieved pose comes from the exact forward kinematics
+(Eq. 2.1-2.9) on a fine time grid; an IMU at the platform centre sees its angular
+velocity and specific force plus seeded white noise and constant bias.
+
+Frames (REP-103): the thesis's mechanism frame has rail 1 - the platform's bow, corner 1
+- on +y and the body axes x' (starboard), y' (bow), z' (up) of Eq. 2.4-2.6. Published
+poses use ``world`` (ENU) = the mechanism frame turned by -90 deg about z, so that the
+level platform's bow points along +x, and body frame ``boat`` = FLU (x bow, y port, z up);
+the world origin is the reel mount of the level platform at neutral heave. Heave, surge
+(world x) and sway (world y) are the platform centre's displacement from its neutral
+position. Roll, pitch and yaw keep the thesis's Eq. 2.7-2.9: roll about the bow axis
+(starboard down positive, as FLU roll), pitch about the starboard axis (bow up
+positive, the opposite sign of FLU pitch).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from scipy.interpolate import CubicHermiteSpline
+from scipy.spatial.transform import Rotation
+
+from psr_platform_sim.kinematics import Design
+from psr_platform_sim.kinematics import platform_pose
+from psr_platform_sim.kinematics import solve_corners
+from psr_platform_sim.path import PathGenerator
+from psr_platform_sim.path import central_velocity
+from psr_platform_sim.path import limit_motion
+from psr_platform_sim.validation import workspace_profile
+from psr_platform_sim.waves import named_profile
+from psr_platform_sim.workspace import ball_region
+from psr_platform_sim.workspace import cached_table
+from psr_platform_sim.workspace import nominal_region
+
+GRAVITY = 9.81
+MECHANISM_TO_WORLD = np.array([[0.0, 1.0, 0.0], [-1.0, 0.0, 0.0], [0.0, 0.0, 1.0]])
+"""Rz(-90 deg): mechanism-frame vectors to ``world``; also thesis body axes to FLU."""
+
+
+@dataclass
+class PlatformSample:
+    """State of the platform at one instant (SI units, rad; see PlatformState.msg)."""
+
+    slider_height: np.ndarray
+    slider_velocity: np.ndarray
+    position: np.ndarray
+    quaternion: np.ndarray
+    heave: float
+    roll: float
+    pitch: float
+    yaw: float
+    surge: float
+    sway: float
+    heave_rate: float
+    roll_rate: float
+    pitch_rate: float
+    yaw_rate: float
+    commanded_heave: float
+    commanded_roll: float
+    commanded_pitch: float
+    in_workspace: bool
+    angular_velocity: np.ndarray
+    specific_force: np.ndarray
+
+
+class PlatformSimulator:
+    """Precomputed motion of the replicator for one profile, sampled by time.
+
+    Args:
+        params: values of :data:`psr_platform_sim.platform_params.PARAMETERS` by name.
+    """
+
+    def __init__(self, params: dict) -> None:
+        p = params
+        self.design = Design(p['r'], p['l'], p['d'], np.radians(p['gamma']),
+                             np.radians(p['ball_limit']) if p['ball_limit'] > 0 else np.pi)
+        table = cached_table(self.design, p['table_steps'], p['cache_dir'] or None)
+        region = ball_region(table) if p['ball_limit'] > 0 else nominal_region(table)
+        if region.area <= 0:
+            raise ValueError(f'design r={p["r"]}, l={p["l"]}, d={p["d"]} has no usable workspace')
+        self.rail_base = -p['rail_length'] / 2.0
+        generator = PathGenerator(table, region, self.rail_base)
+        self.neutral_centre = generator.neutral_centre
+        if p['profile'] == 'workspace':
+            profile = workspace_profile(table, region, rate=p['command_rate'])
+        else:
+            profile = named_profile(p['profile'], p['seed'], p['profile_duration'], p['sea_state'],
+                                    p['boat_length'], p['command_rate'])
+        profile = profile.resampled(p['command_rate']).ramped(p['ramp_time'])
+        self.profile_name = profile.name
+        dt = 1.0 / p['command_rate']
+        path = generator.sliders(profile.heave, profile.roll, profile.pitch, exact=True,
+                                 heave_limit=p['heave_limit'])
+        achieved, _, self.limited_ticks = limit_motion(path.heights, dt, p['max_slider_speed'],
+                                                       p['max_slider_accel'])
+        self.command_t = profile.t
+        self.command_dt = dt
+        self.command = np.stack([path.heave, path.roll, path.pitch], axis=-1)
+        self.requested = np.stack([profile.heave, profile.roll, profile.pitch], axis=-1)
+        self.inside = path.inside
+        self.rate = p['imu_rate']
+        t = np.arange(0.0, profile.t[-1] + 0.5 / self.rate, 1.0 / self.rate)
+        spline = CubicHermiteSpline(profile.t, achieved, central_velocity(achieved, dt))
+        self.t = t
+        self.sliders = spline(t)
+        self.slider_velocity = spline(t, 1)
+        corners, _, converged = solve_corners(self.design, self.sliders + self.rail_base)
+        self.converged = converged
+        pose = platform_pose(corners)
+        offset = np.array([0.0, 0.0, self.neutral_centre])
+        w = MECHANISM_TO_WORLD
+        self.rotation = w @ pose.rotation @ w.T  # FLU body to world
+        self.centre = (pose.p - offset) @ w.T
+        self.angles = np.stack([pose.roll, pose.pitch, pose.yaw], axis=-1)
+        self.angle_rates = np.gradient(self.angles, 1.0 / self.rate, axis=0)
+        self.velocity = np.gradient(self.centre, 1.0 / self.rate, axis=0)
+        self.reel_offset = np.asarray(p['reel_offset'], dtype=float)
+        self.reel_position = self.centre + self.rotation @ self.reel_offset - self.reel_offset
+        # Body angular velocity from R^T dR/dt, specific force R^T (a + g z).
+        rdot = np.gradient(self.rotation, 1.0 / self.rate, axis=0)
+        omega = np.einsum('nki,nkj->nij', self.rotation, rdot)
+        self.angular_velocity = 0.5 * np.stack([omega[:, 2, 1] - omega[:, 1, 2], omega[:, 0, 2] - omega[:, 2, 0],
+                                                omega[:, 1, 0] - omega[:, 0, 1]], axis=-1)
+        accel = np.gradient(self.velocity, 1.0 / self.rate, axis=0) + np.array([0.0, 0.0, GRAVITY])
+        self.specific_force = np.einsum('nki,nk->ni', self.rotation, accel)
+        self.quaternion = Rotation.from_matrix(self.rotation).as_quat()
+
+    @property
+    def duration(self) -> float:
+        """Length of the precomputed motion (s); the last pose is held after it."""
+        return float(self.t[-1])
+
+    def sample(self, time: float) -> PlatformSample:
+        """State at ``time`` seconds after the start (nearest fine-grid sample)."""
+        i = int(np.clip(round(time * self.rate), 0, self.t.size - 1))
+        c = int(np.clip(round(time / self.command_dt), 0, self.command_t.size - 1))
+        held = time * self.rate > self.t.size - 1
+        zero3 = np.zeros(3)
+        return PlatformSample(
+            slider_height=self.sliders[i], slider_velocity=zero3 if held else self.slider_velocity[i],
+            position=self.reel_position[i], quaternion=self.quaternion[i],
+            heave=float(self.centre[i, 2]), roll=float(self.angles[i, 0]), pitch=float(self.angles[i, 1]),
+            yaw=float(self.angles[i, 2]), surge=float(self.centre[i, 0]), sway=float(self.centre[i, 1]),
+            heave_rate=0.0 if held else float(self.velocity[i, 2]),
+            roll_rate=0.0 if held else float(self.angle_rates[i, 0]),
+            pitch_rate=0.0 if held else float(self.angle_rates[i, 1]),
+            yaw_rate=0.0 if held else float(self.angle_rates[i, 2]),
+            commanded_heave=float(np.interp(time, self.command_t, self.command[:, 0])),
+            commanded_roll=float(np.interp(time, self.command_t, self.command[:, 1])),
+            commanded_pitch=float(np.interp(time, self.command_t, self.command[:, 2])),
+            in_workspace=bool(self.inside[c]),
+            angular_velocity=zero3 if held else self.angular_velocity[i],
+            specific_force=np.array([0.0, 0.0, GRAVITY]) @ self.rotation[i] if held else self.specific_force[i])
+
+    def achieved_hrp(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Achieved heave (m), roll and pitch (rad) on the fine time grid."""
+        return self.centre[:, 2], self.angles[:, 0], self.angles[:, 1]
+
+    def tracking_error(self) -> dict[str, float]:
+        """RMS of achieved minus commanded heave (m), roll and pitch (rad) on the command grid."""
+        achieved = np.stack([np.interp(self.command_t, self.t, a) for a in self.achieved_hrp()], axis=-1)
+        rms = np.sqrt(np.mean((achieved - self.command) ** 2, axis=0))
+        return {'heave': float(rms[0]), 'roll': float(rms[1]), 'pitch': float(rms[2])}
+
+
+class ImuModel:
+    """IMU at the platform centre: truth plus seeded white noise and a constant bias per axis."""
+
+    def __init__(self, seed: int, gyro_noise: float, accel_noise: float, gyro_bias: float, accel_bias: float) -> None:
+        self.rng = np.random.default_rng([seed, 7])
+        self.gyro_noise, self.accel_noise = gyro_noise, accel_noise
+        self.gyro_bias = self.rng.normal(0.0, gyro_bias, 3)
+        self.accel_bias = self.rng.normal(0.0, accel_bias, 3)
+
+    def measure(self, sample: PlatformSample) -> tuple[np.ndarray, np.ndarray]:
+        """Measured angular velocity (rad/s) and specific force (m/s^2) in the body frame."""
+        gyro = sample.angular_velocity + self.gyro_bias + self.rng.normal(0.0, self.gyro_noise, 3)
+        accel = sample.specific_force + self.accel_bias + self.rng.normal(0.0, self.accel_noise, 3)
+        return gyro, accel

@@ -1,0 +1,88 @@
+"""The platform node on sim time: publishes state, reel pose and IMU stamped with /clock."""
+
+from __future__ import annotations
+
+import os
+import signal
+import subprocess
+import sys
+import time
+
+import pytest
+
+rclpy = pytest.importorskip('rclpy')
+
+from geometry_msgs.msg import PoseStamped  # noqa: E402
+from rosgraph_msgs.msg import Clock  # noqa: E402
+from sensor_msgs.msg import Imu  # noqa: E402
+from tether_msgs.msg import PlatformState  # noqa: E402
+
+from psr_platform_sim.platform_params import PARAMETERS  # noqa: E402
+from psr_platform_sim.simulator import PlatformSimulator  # noqa: E402
+from tether_common.qos import SENSOR  # noqa: E402
+from tether_common.qos import STATE  # noqa: E402
+
+
+def _start_node(tmp_path, *extra):
+    env = dict(os.environ, ROS_DOMAIN_ID=str(40 + os.getpid() % 50))
+    cmd = [sys.executable, '-m', 'psr_platform_sim.platform_node', '--ros-args',
+           '-p', 'use_sim_time:=true', '-p', f'cache_dir:={tmp_path}', '-p', 'table_steps:=120',
+           '-p', 'profile_duration:=20.0', *extra]
+    return subprocess.Popen(cmd, env=env, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True), env
+
+
+def test_node_publishes_on_sim_time(tmp_path):
+    process, env = _start_node(tmp_path, '-p', 'profile:=hpr3', '-p', 'seed:=3')
+    os.environ['ROS_DOMAIN_ID'] = env['ROS_DOMAIN_ID']
+    rclpy.init()
+    node = rclpy.create_node('probe')
+    got = {'state': [], 'pose': [], 'imu': []}
+    node.create_subscription(PlatformState, '/platform/state', got['state'].append, STATE)
+    node.create_subscription(PoseStamped, '/platform/reel_pose', got['pose'].append, STATE)
+    node.create_subscription(Imu, '/platform/imu', got['imu'].append, SENSOR)
+    clock = node.create_publisher(Clock, '/clock', 10)
+    try:
+        sim_ns = 1_000_000_000
+        deadline = time.monotonic() + 90.0
+        while time.monotonic() < deadline and min(len(v) for v in got.values()) < 50:
+            sim_ns += 10_000_000
+            msg = Clock()
+            msg.clock.sec, msg.clock.nanosec = divmod(sim_ns, 1_000_000_000)
+            clock.publish(msg)
+            rclpy.spin_once(node, timeout_sec=0.005)
+            assert process.poll() is None, process.communicate()[1]
+    finally:
+        process.send_signal(signal.SIGINT)
+        process.wait(timeout=20)
+        node.destroy_node()
+        rclpy.shutdown()
+    assert min(len(v) for v in got.values()) >= 50
+    state = got['state'][-1]
+    stamp = state.header.stamp.sec + state.header.stamp.nanosec * 1e-9
+    assert 1.0 < stamp <= sim_ns * 1e-9
+    assert state.header.frame_id == 'world'
+    assert len(state.slider_height) == 3
+    assert got['pose'][-1].header.frame_id == 'world'
+    q = got['pose'][-1].pose.orientation
+    assert abs(q.x**2 + q.y**2 + q.z**2 + q.w**2 - 1.0) < 1e-9
+    accel_z = [m.linear_acceleration.z for m in got['imu']]
+    assert 8.0 < sum(accel_z) / len(accel_z) < 11.6
+    assert process.returncode == 0
+    # stamped with the 10 ms ticks (the probe may miss some); the state is the simulator's at that time
+    stamps = [m.header.stamp.sec * 1_000_000_000 + m.header.stamp.nanosec for m in got['state']]
+    assert all(t % 10_000_000 == 0 for t in stamps)
+    assert all(b > a for a, b in zip(stamps, stamps[1:]))
+    values = {spec.name: spec.default for spec in PARAMETERS}
+    values.update(profile='hpr3', seed=3, cache_dir=str(tmp_path), table_steps=120, profile_duration=20.0)
+    expected = PlatformSimulator(values).sample(stamp)
+    assert state.roll == pytest.approx(expected.roll, abs=1e-12)
+    assert state.heave == pytest.approx(expected.heave, abs=1e-12)
+    assert state.commanded_pitch == pytest.approx(expected.commanded_pitch, abs=1e-12)
+
+
+def test_node_bad_profile_file_exits_2(tmp_path):
+    process, _ = _start_node(tmp_path, '-p', f'profile:={tmp_path / "missing.csv"}')
+    _, err = process.communicate(timeout=60)
+    assert process.returncode == 2
+    assert 'missing.csv' in err
+    assert 'Traceback' not in err
