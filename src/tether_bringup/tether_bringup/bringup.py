@@ -17,7 +17,11 @@ import time
 from dataclasses import dataclass
 from pathlib import Path
 
+import rclpy
 import yaml
+from ament_index_python.packages import get_package_prefix
+from rclpy.node import Node
+from rclpy.signals import SignalHandlerOptions
 
 from tether_bringup.bag_info import bag_summary_lines
 from tether_bringup.bag_reader import resolve_bag
@@ -60,10 +64,6 @@ def execute(nodes: list[NodeConfig], source, options: RunOptions) -> int:
     env = run_environment(options.domain_id, options.discovery, str(out / 'logs' / 'ros'))
     os.environ.update({key: env[key] for key in ('ROS_DOMAIN_ID', 'ROS_AUTOMATIC_DISCOVERY_RANGE', 'ROS_LOG_DIR')})
     os.environ.pop('ROS_LOCALHOST_ONLY', None)
-
-    import rclpy
-    from rclpy.node import Node
-    from rclpy.signals import SignalHandlerOptions
 
     previous = {sig: signal.signal(sig, _on_signal) for sig in (signal.SIGINT, signal.SIGTERM)}
     children: list[ChildProcess] = []
@@ -142,7 +142,6 @@ def execute(nodes: list[NodeConfig], source, options: RunOptions) -> int:
 
 
 def _recorder_program() -> str:
-    from ament_index_python.packages import get_package_prefix
     return str(Path(get_package_prefix('tether_bringup')) / 'lib' / 'tether_bringup' / 'recorder')
 
 
@@ -169,7 +168,6 @@ def _check_children(children: list[ChildProcess]) -> None:
 
 
 def _wait_for(condition, timeout: float, children, node, message: str) -> None:
-    import rclpy
     deadline = time.monotonic() + timeout
     while not condition():
         _check_children(children)

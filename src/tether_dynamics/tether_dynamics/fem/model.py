@@ -1,0 +1,223 @@
+"""Assembly of a tether scene into the arrays the compiled kernels run on (Sec. 8.3.2-8.4.4)."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+import scipy.linalg
+
+from tether_dynamics.fem import constraints, elements_linear, elements_quadratic
+from tether_dynamics.fem.effects import Drag, KelvinVoigt, Wind
+from tether_dynamics.fem.end_bodies import FarEnd, Pinned, PointMass, PrescribedMotion, RigidBody, StartEnd
+from tether_dynamics.fem.errors import FemError
+
+ELEMENTS = {'linear': elements_linear, 'quadratic': elements_quadratic}
+RK4_STABILITY = 2.0 * np.sqrt(2.0)
+VERLET_STABILITY = 2.0
+
+
+@dataclass(frozen=True)
+class Tether:
+    """Material and discretisation of the string (Sec. 7.2, 8.3).
+
+    Attributes
+    ----------
+    length : unstretched length l, m.
+    mu : linear density, kg/m.
+    ea : axial stiffness EA, N.
+    n_elem : number of elements N.
+    element : 'linear' or 'quadratic'.
+    tension_only : True (the thesis's string, Sec. 9.1.2); False makes it a spring that
+        also resists compression, for diagnosing slack-taut effects.
+    """
+
+    length: float
+    mu: float
+    ea: float
+    n_elem: int
+    element: str = 'linear'
+    tension_only: bool = True
+
+    def __post_init__(self) -> None:
+        if self.element not in ELEMENTS:
+            msg = f"element must be 'linear' or 'quadratic', got {self.element!r}"
+            raise FemError(msg)
+        if self.length <= 0 or self.mu <= 0 or self.ea <= 0 or self.n_elem < 1:
+            msg = 'tether needs length, mu, EA > 0 and at least one element'
+            raise FemError(msg)
+
+    @property
+    def l0(self) -> float:
+        """Unstretched element length l / N."""
+        return self.length / self.n_elem
+
+    @property
+    def family(self):  # noqa: ANN201 - a module
+        """The element module (linear or quadratic)."""
+        return ELEMENTS[self.element]
+
+    @property
+    def n_nodes(self) -> int:
+        """Number of nodes."""
+        return self.family.n_nodes(self.n_elem)
+
+
+@dataclass(frozen=True)
+class Scene:
+    """A tether between a start end (pinned or prescribed) and a far end, with effects.
+
+    ``nodes`` holds the initial node positions (n_nodes, 3); ``velocities`` the initial node
+    velocities (default zero). Effects left as None cost nothing.
+    """
+
+    tether: Tether
+    start: StartEnd
+    far: FarEnd
+    nodes: np.ndarray
+    velocities: np.ndarray | None = None
+    gravity: tuple[float, float, float] = (0.0, 0.0, -9.81)
+    drag: Drag | None = None
+    wind: Wind | None = None
+    damping: KelvinVoigt | None = None
+    strain_limit: float = 0.5
+
+    def __post_init__(self) -> None:
+        nodes = np.asarray(self.nodes, float)
+        if nodes.shape != (self.tether.n_nodes, 3):
+            msg = f'nodes must have shape ({self.tether.n_nodes}, 3), got {nodes.shape}'
+            raise FemError(msg)
+        if self.wind is not None and self.drag is None:
+            msg = 'wind acts on the tether only through drag: give a Drag too'
+            raise FemError(msg)
+        if not isinstance(self.start, (Pinned, PrescribedMotion)):
+            msg = 'the start end must be Pinned or PrescribedMotion'
+            raise FemError(msg)
+
+
+@dataclass
+class Compiled:
+    """A scene packed for the kernels: the model tuple, the initial state and index maps."""
+
+    scene: Scene
+    mdl: tuple
+    y0: np.ndarray
+    free: np.ndarray
+    kinematic: np.ndarray
+    m_all: np.ndarray
+    c_all: np.ndarray
+    gravity_weights: np.ndarray
+
+
+def _kinematic_tables(ends: list, nodes: np.ndarray, t0: float, t1: float,
+                      sample_dt: float) -> tuple[np.ndarray, np.ndarray, np.ndarray, int]:
+    """Sample every kinematic end on one uniform grid (pinned ends are constant)."""
+    n_s = int(np.ceil((t1 - t0) / sample_dt)) + 3
+    pos = np.zeros((len(ends), n_s, 3))
+    vel = np.zeros_like(pos)
+    acc = np.zeros_like(pos)
+    for k, (end, node) in enumerate(ends):
+        if isinstance(end, Pinned):
+            pos[k] = np.asarray(end.position, float)
+        else:
+            pos[k], vel[k], acc[k] = end.tables(t0, t1, sample_dt)
+        nodes[node] = pos[k, 0]
+    return pos, vel, acc, n_s
+
+
+def compile_scene(scene: Scene, t0: float = 0.0, t1: float = 0.0, sample_dt: float = 1e-3) -> Compiled:
+    """Assemble mass (Eq. 8.14 / 8.33), constraints (Eq. 8.41) and loads for the kernels.
+
+    ``t1`` and ``sample_dt`` set the span and grid of prescribed-motion tables; beyond t1
+    the last sample is held, so pass the end of the intended run. Prescribed ends start at
+    their table state; for quadratic elements the free-node initial velocities are
+    corrected (least change) to satisfy the velocity-level c1 constraints.
+    """
+    tet = scene.tether
+    fam = tet.family
+    n_all = tet.n_nodes
+    l0 = tet.l0
+    nodes = np.array(scene.nodes, float)
+    kinematic_ends = [(scene.start, 0)]
+    far_kinematic = isinstance(scene.far, (Pinned, PrescribedMotion))
+    if far_kinematic:
+        kinematic_ends.append((scene.far, n_all - 1))
+    kin_idx = np.array([node for _, node in kinematic_ends], np.int64)
+    free = np.arange(1, n_all - 1 if far_kinematic else n_all)
+    if free.size == 0:
+        msg = 'the tether has no free node: use more elements'
+        raise FemError(msg)
+    pos, vel, acc, n_s = _kinematic_tables(kinematic_ends, nodes, t0, max(t1, t0), sample_dt)
+    m_all = fam.mass_matrix(tet.n_elem, tet.mu, l0)
+    c_all = constraints.c1_matrix(tet.n_elem) if tet.element == 'quadratic' else np.zeros((0, n_all))
+    p_op, g_op = constraints.constrained_operators(
+        m_all[np.ix_(free, free)], m_all[np.ix_(free, kin_idx)], c_all[:, free], c_all[:, kin_idx])
+    grav = np.asarray(scene.gravity, float)
+    weights = fam.gravity_weights(tet.n_elem, tet.mu, l0)
+    gload = weights[:, None] * grav[None, :]
+    far = scene.far
+    end_kind = 0 if far_kinematic else (1 if isinstance(far, PointMass) else 2)
+    mass = getattr(far, 'mass', 0.0)
+    force = np.asarray(getattr(far, 'force', (0.0, 0.0, 0.0)), float)
+    if isinstance(far, RigidBody):
+        pi_m = np.asarray(far.inertia, float)
+        rho_c = np.asarray(far.rho_c, float)
+        omega0 = np.asarray(far.omega, float)
+        rot0 = np.asarray(far.rotation, float)
+    else:
+        pi_m, rho_c, omega0, rot0 = np.eye(3), np.zeros(3), np.zeros(3), np.eye(3)
+    drag, wind, kv = scene.drag, scene.wind, scene.damping
+    ip = np.array([1 if tet.element == 'linear' else 2, n_all, tet.n_elem, free[0], free[-1] + 1,
+                   end_kind, kv is not None, drag is not None, wind is not None, len(kin_idx), n_s,
+                   tet.tension_only, any(isinstance(e, PrescribedMotion) for e, _ in kinematic_ends)],
+                  np.int64)
+    wind_u = np.asarray(wind.velocity, float) if wind else np.zeros(3)
+    fp = np.array([tet.ea, l0, tet.mu, *grav, mass, kv.coefficient if kv else 0.0,
+                   drag.air_density if drag else 0.0, drag.cd_normal if drag else 0.0,
+                   drag.cd_tangential if drag else 0.0, drag.diameter if drag else 0.0,
+                   *wind_u, wind.z_ref if wind else 1.0, wind.alpha if wind else 0.0,
+                   wind.z_ground if wind else 0.0, t0, sample_dt, *force, scene.strain_limit])
+    band = constraints.banded_cholesky(m_all[np.ix_(free, free)], 1 if tet.element == 'linear' else 2)
+    c1_cols, c1_vals, s_inv = constraints.sparse_rows(m_all[np.ix_(free, free)], c_all[:, free])
+    nc = c1_cols.shape[0]
+    x_work, v_work = np.array(nodes), np.zeros((n_all, 3))
+    v_work[kin_idx] = vel[:, 0]
+    work = (x_work, v_work, np.zeros((n_all, 3)), np.zeros((len(kin_idx), 3)),
+            np.zeros((9, 3)), np.zeros((3, 3, 3)))
+    mdl = (ip, fp, band, np.ascontiguousarray(g_op), gload, kin_idx, pos, vel, acc,
+           pi_m, np.ascontiguousarray(scipy.linalg.inv(pi_m)), rho_c, *work, c1_cols, c1_vals, s_inv,
+           np.ascontiguousarray(p_op[:, -1]), np.zeros((free.size, 3)), np.zeros((nc, 3)), np.zeros((free.size, 3)))
+    v_init = np.zeros((n_all, 3)) if scene.velocities is None else np.array(scene.velocities, float)
+    v_init[kin_idx] = vel[:, 0]
+    if c_all.shape[0]:
+        c_f = c_all[:, free]
+        v_init[free] -= c_f.T @ np.linalg.solve(c_f @ c_f.T, c_all @ v_init)
+    y0 = np.concatenate([nodes[free].ravel(), v_init[free].ravel(), omega0, rot0.ravel()])
+    resid = c_all @ nodes
+    if resid.size and np.max(np.abs(resid)) > 1e-9 * max(1.0, tet.length):
+        msg = f'initial nodes violate the c1 constraints (residual {np.max(np.abs(resid)):.3g} m)'
+        raise FemError(msg)
+    return Compiled(scene, mdl, y0, free, kin_idx, m_all, c_all, weights)
+
+
+def stable_step(tether: Tether, free_ends: int = 1) -> dict[str, float]:
+    """Stable explicit step estimate from the highest axial mode of the taut string.
+
+    ``omega_moordyn`` is MoorDyn's rule (2N / L) sqrt(EA / mu) for lumped masses;
+    ``omega_max`` is the highest generalised eigenvalue of the consistent-mass model
+    (constrained for quadratic elements, start node pinned). RK4 is stable up to
+    h omega = 2 sqrt(2), velocity Verlet up to h omega = 2.
+    """
+    fam = tether.family
+    n = tether.n_nodes
+    m = fam.mass_matrix(tether.n_elem, tether.mu, tether.l0)
+    k = fam.axial_stiffness(tether.n_elem, tether.ea, tether.l0)
+    free = np.arange(1, n if free_ends else n - 1)
+    m_f, k_f = m[np.ix_(free, free)], k[np.ix_(free, free)]
+    if tether.element == 'quadratic' and tether.n_elem > 1:
+        basis = scipy.linalg.null_space(constraints.c1_matrix(tether.n_elem)[:, free])
+        m_f, k_f = basis.T @ m_f @ basis, basis.T @ k_f @ basis
+    omega_max = float(np.sqrt(scipy.linalg.eigvalsh(k_f, m_f)[-1]))
+    omega_md = 2.0 * tether.n_elem / tether.length * np.sqrt(tether.ea / tether.mu)
+    return {'omega_moordyn': omega_md, 'period_moordyn': 2 * np.pi / omega_md, 'omega_max': omega_max,
+            'dt_rk4': RK4_STABILITY / omega_max, 'dt_verlet': VERLET_STABILITY / omega_max}
