@@ -9,27 +9,15 @@ import time
 from pathlib import Path
 
 from tether_bringup.errors import TethersimError
+from tether_common.command_line import OneLineParser
+from tether_common.command_line import UsageError
+from tether_common.command_line import positive
 
 ANALYSIS_GROUPS = {
     'catenary': ('tether_dynamics.catenary_cli', 'catenary statics, heave robustness, flying space (thesis Ch. 3)'),
     'fem': ('tether_dynamics.fem_cli', 'finite-element tether dynamics, the Chapter 9 pendulum'),
     'psr': ('psr_platform_sim.cli', '3-PSR wave replicator: workspace and design optimization (Ch. 2)'),
 }
-
-
-class _Parser(argparse.ArgumentParser):
-    def error(self, message: str) -> None:
-        self.exit(2, f'{self.prog}: error: {message}\n')
-
-
-def _positive(text: str) -> float:
-    try:
-        value = float(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f'expected a number, got {text!r}') from None
-    if not value > 0 or value != value or value == float('inf'):
-        raise argparse.ArgumentTypeError(f'expected a positive number, got {text!r}')
-    return value
 
 
 def _domain(text: str) -> int:
@@ -50,29 +38,29 @@ def _add_network(parser: argparse.ArgumentParser) -> None:
 
 
 def build_parser() -> argparse.ArgumentParser:
-    parser = _Parser(prog='tethersim', description='Tethered UAV over a USV with a smart reel, as a ROS 2 node graph.')
-    commands = parser.add_subparsers(dest='command', required=True, parser_class=_Parser)
+    parser = OneLineParser(prog='tethersim', description='Tethered UAV over a USV with a smart reel, as a ROS 2 node graph.')
+    commands = parser.add_subparsers(dest='command', required=True, parser_class=OneLineParser)
 
     run = commands.add_parser('run', help='run a scene and record it')
     run.add_argument('scene', nargs='?', default='default', help='scene name (see `tethersim scenes`) or YAML file')
-    run.add_argument('--duration', type=_positive, help='sim time to run, s (default: the scene\'s)')
-    run.add_argument('--rate', type=_positive, help='real-time factor (default: the scene\'s)')
+    run.add_argument('--duration', type=positive(), help='sim time to run, s (default: the scene\'s)')
+    run.add_argument('--rate', type=positive(), help='real-time factor (default: the scene\'s)')
     run.add_argument('--out', type=Path, help='run directory (default: runs/<scene>-<time>)')
     _add_network(run)
 
     replay = commands.add_parser('replay', help='republish a bag with /clock from it, recording a new bag')
     replay.add_argument('bag', help='bag file, bag directory or run directory')
     replay.add_argument('--topics', nargs='+', help='replay only these topics')
-    replay.add_argument('--rate', type=_positive, default=1.0, help='real-time factor (default 1)')
+    replay.add_argument('--rate', type=positive(), default=1.0, help='real-time factor (default 1)')
     replay.add_argument('--scene', help='also run the nodes of this scene (e.g. an estimator under test)')
-    replay.add_argument('--clock-step', type=_positive, default=0.01, help='s of bag time between /clock ticks')
+    replay.add_argument('--clock-step', type=positive(), default=0.01, help='s of bag time between /clock ticks')
     replay.add_argument('--out', type=Path, help='run directory (default: runs/replay-<time>)')
     _add_network(replay)
 
     commands.add_parser('scenes', help='list the installed scenes')
 
     bag = commands.add_parser('bag', help='inspect and export bags')
-    bag_commands = bag.add_subparsers(dest='bag_command', required=True, parser_class=_Parser)
+    bag_commands = bag.add_subparsers(dest='bag_command', required=True, parser_class=OneLineParser)
     info = bag_commands.add_parser('info', help='topics, types, counts, rates, duration')
     info.add_argument('bag')
     export = bag_commands.add_parser('export', help='one topic as CSV, one row per message')
@@ -165,11 +153,11 @@ def main(argv: list[str] | None = None) -> int:
             print(f'tethersim: error: the {argv[0]} commands are not installed ({module_name})', file=sys.stderr)
             return 2
         return module.main(argv[1:])
-    args = build_parser().parse_args(argv)
     handlers = {'run': _run, 'replay': _replay, 'scenes': _scenes, 'bag': _bag}
     try:
+        args = build_parser().parse_args(argv)
         return handlers[args.command](args)
-    except TethersimError as error:
+    except (TethersimError, UsageError) as error:
         print(f'tethersim: error: {error}', file=sys.stderr)
         return 2
 

@@ -21,6 +21,9 @@ from pathlib import Path
 
 import numpy as np
 
+from tether_common.command_line import OneLineParser
+from tether_common.command_line import UsageError
+from tether_common.command_line import run_analysis
 from tether_dynamics import (
     catenary,
     catenary_plots,
@@ -34,15 +37,6 @@ QUICK_STEP = 2.5
 FULL_STEP = 0.5
 THESIS_RECOMMENDED_RATIO = 0.46
 THESIS_HEAVE_55_20 = 0.75
-
-
-class UsageError(Exception):
-    """A user mistake: reported in one line, exit status 2."""
-
-
-class _Parser(argparse.ArgumentParser):
-    def error(self, message: str) -> None:
-        raise UsageError(message)
 
 
 def _progress(label: str) -> Callable[[int, int], None]:
@@ -117,8 +111,7 @@ def _exact_vs_thesis_fit() -> list[str]:
 def analyze(args: argparse.Namespace) -> str:
     """Run the flying-space analysis and write plots; return the summary text."""
     step = FULL_STEP if args.full else (args.step or QUICK_STEP)
-    out = Path(args.out)
-    out.mkdir(parents=True, exist_ok=True)
+    out = args.out
     dx, dy = flying_space.grid(step, args.extent)
     print(f'{PROG} analyze: {dx.size} positions × {args.lengths} lengths '
           f'({dx.size * args.lengths / 1e6:.2f} M catenaries, ×2 with the shooting method)',
@@ -214,8 +207,7 @@ def envelope_report(dz_values: np.ndarray, ratios: np.ndarray) -> tuple[list[str
 
 def reference(args: argparse.Namespace) -> str:
     """Compare the reference-length model with the exact solve; return the summary text."""
-    out = Path(args.out)
-    out.mkdir(parents=True, exist_ok=True)
+    out = args.out
     dz_values = np.linspace(2.0, 60.0, 59)
     ratios = np.linspace(0.0, 2.0, 201)
     print(f'{PROG} reference: {dz_values.size * ratios.size} envelope points ...', file=sys.stderr)
@@ -249,8 +241,8 @@ def _time_point(call: Callable[[], object], repeats: int = 200) -> float:
 
 def build_parser() -> argparse.ArgumentParser:
     """Return the argument parser of ``tethersim catenary``."""
-    parser = _Parser(prog=PROG, description=__doc__.splitlines()[0])
-    sub = parser.add_subparsers(dest='command', required=True, parser_class=_Parser)
+    parser = OneLineParser(prog=PROG, description=__doc__.splitlines()[0])
+    sub = parser.add_subparsers(dest='command', required=True, parser_class=OneLineParser)
     p_an = sub.add_parser('analyze', help='flying-space analysis and fits (Sec. 3.2-3.3)')
     grid = p_an.add_mutually_exclusive_group()
     grid.add_argument('--quick', action='store_true',
@@ -260,35 +252,25 @@ def build_parser() -> argparse.ArgumentParser:
     p_an.add_argument('--extent', type=float, default=60.0, help='grid extent in m (60)')
     p_an.add_argument('--lengths', type=int, default=flying_space.N_LENGTHS,
                       help='tether lengths per position (480)')
-    p_an.add_argument('--out', default='runs/catenary-analyze', help='output directory')
+    p_an.add_argument('--out', type=Path, default=Path('runs/catenary-analyze'), help='output directory')
     p_ref = sub.add_parser('reference', help='reference-length model vs exact (Sec. 4.3)')
-    p_ref.add_argument('--out', default='runs/catenary-reference', help='output directory')
+    p_ref.add_argument('--out', type=Path, default=Path('runs/catenary-reference'), help='output directory')
     return parser
+
+
+def _command(args: argparse.Namespace) -> str:
+    if args.command == 'reference':
+        return reference(args)
+    if args.step is not None and not 0.0 < args.step <= args.extent:
+        raise UsageError(f'--step must be in (0, extent] (got {args.step})')
+    if args.lengths < 10:
+        raise UsageError(f'--lengths must be at least 10 (got {args.lengths})')
+    return analyze(args)
 
 
 def main(argv: list[str] | None = None) -> int:
     """Run ``tethersim catenary``; return the exit status."""
-    try:
-        args = build_parser().parse_args(argv)
-        if args.command == 'analyze':
-            if args.step is not None and not 0.0 < args.step <= args.extent:
-                msg = f'--step must be in (0, extent] (got {args.step})'
-                raise UsageError(msg)
-            if args.lengths < 10:
-                msg = f'--lengths must be at least 10 (got {args.lengths})'
-                raise UsageError(msg)
-            summary = analyze(args)
-        else:
-            summary = reference(args)
-    except UsageError as error:
-        print(f'{PROG}: error: {error}', file=sys.stderr)
-        return 2
-    except OSError as error:
-        print(f'{PROG}: error: cannot write output: {error}', file=sys.stderr)
-        return 2
-    Path(args.out, 'summary.txt').write_text(summary + '\n', encoding='utf-8')
-    print(summary)
-    return 0
+    return run_analysis(PROG, build_parser(), argv, _command)
 
 
 if __name__ == '__main__':

@@ -6,43 +6,24 @@ import argparse
 import sys
 from pathlib import Path
 
+from tether_common.command_line import OneLineParser
+from tether_common.command_line import UsageError
+from tether_common.command_line import positive
+from tether_common.command_line import run_analysis
 from tether_dynamics.fem.errors import FemError
 
 PROG = 'tethersim fem'
 
 
-class _Parser(argparse.ArgumentParser):
-    """An argument parser whose errors are one line and exit status 2."""
-
-    def error(self, message: str) -> None:  # type: ignore[override]
-        raise _UsageError(message)
-
-
-class _UsageError(Exception):
-    """A user mistake on the command line."""
-
-
-def _positive(kind: type) -> callable:
-    def parse(text: str):  # noqa: ANN202
-        try:
-            value = kind(text)
-        except ValueError:
-            raise argparse.ArgumentTypeError(f'not a number: {text!r}') from None
-        if value <= 0:
-            raise argparse.ArgumentTypeError(f'must be positive: {text!r}')
-        return value
-    return parse
-
-
-def _parser() -> _Parser:
-    parser = _Parser(prog=PROG, description='Finite-element tether dynamics (thesis Ch. 7-9).')
-    sub = parser.add_subparsers(dest='command', required=True, parser_class=_Parser)
+def _parser() -> OneLineParser:
+    parser = OneLineParser(prog=PROG, description='Finite-element tether dynamics (thesis Ch. 7-9).')
+    sub = parser.add_subparsers(dest='command', required=True, parser_class=OneLineParser)
     pend = sub.add_parser('pendulum', help='reproduce the Chapter 9 pendulum (Fig. 9.1-9.4)')
     pend.add_argument('--elements', default='linear,quadratic',
                       help="comma list of 'linear', 'quadratic' (default both)")
-    pend.add_argument('--n', type=_positive(int), default=5, help='number of elements (default 5)')
-    pend.add_argument('--dt', type=_positive(float), default=1e-4, help='time step, s (default 1e-4)')
-    pend.add_argument('--span', type=_positive(float), default=10.0, help='simulated time, s (default 10)')
+    pend.add_argument('--n', type=positive(int), default=5, help='number of elements (default 5)')
+    pend.add_argument('--dt', type=positive(float), default=1e-4, help='time step, s (default 1e-4)')
+    pend.add_argument('--span', type=positive(float), default=10.0, help='simulated time, s (default 10)')
     pend.add_argument('--method', choices=('rk4', 'verlet'), default='rk4')
     pend.add_argument('--body', choices=('rigid', 'point'), default='rigid')
     pend.add_argument('--out', type=Path, default=Path('runs/fem-pendulum'))
@@ -56,8 +37,7 @@ def _pendulum(args: argparse.Namespace) -> str:
     elements = [e.strip() for e in args.elements.split(',') if e.strip()]
     bad = [e for e in elements if e not in ('linear', 'quadratic')]
     if bad or not elements:
-        raise _UsageError(f"--elements takes 'linear' and/or 'quadratic', got {args.elements!r}")
-    args.out.mkdir(parents=True, exist_ok=True)
+        raise UsageError(f"--elements takes 'linear' and/or 'quadratic', got {args.elements!r}")
     print(f'{PROG} pendulum: loading compiled kernels (compiling on first use, ~20-60 s)...', file=sys.stderr)
     jit = warm_up()
     runs = []
@@ -90,15 +70,7 @@ def _pendulum(args: argparse.Namespace) -> str:
 
 def main(argv: list[str] | None = None) -> int:
     """Entry point: returns 0 on success, 2 on a user mistake."""
-    try:
-        args = _parser().parse_args(argv)
-        text = _pendulum(args)
-    except (_UsageError, FemError) as err:
-        print(f'{PROG}: error: {err}', file=sys.stderr)
-        return 2
-    (args.out / 'summary.txt').write_text(text)
-    print(text, end='')
-    return 0
+    return run_analysis(PROG, _parser(), argv, _pendulum, user_errors=(FemError,))
 
 
 if __name__ == '__main__':
