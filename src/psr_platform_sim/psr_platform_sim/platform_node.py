@@ -8,7 +8,13 @@ tick's own time) sample the precomputed motion and publish
   (geometry_msgs/PoseStamped, frame ``world``) at ``state_rate``,
 * ``/platform/imu`` (sensor_msgs/Imu, frame ``boat``, FLU) at ``imu_rate``.
 
-Frames and angle conventions are those of :mod:`psr_platform_sim.simulator`.
+Frames and angles follow REP-103 (see :mod:`psr_platform_sim.simulator`): ``world`` is
+ENU with rail 1 on +x; ``boat`` is FLU with x the bow (platform corner 1), y port, z the
+platform normal, aligned with ``world`` at the level neutral pose. The reel pose's and the
+IMU's orientation are the rotation of ``boat`` in ``world``; the IMU's angular velocity
+and specific force are in ``boat``; PlatformState's roll, pitch, yaw (and the commanded
+roll, pitch) are the intrinsic Z-Y-X angles of that rotation, not the thesis's
+Eq. 2.7-2.9 angles, which only the startup log's tracking error uses.
 
 Profile time is sim time: the profile starts at sim time 0, so the messages and their
 stamps do not depend on when the process got to run.
@@ -60,6 +66,7 @@ class PlatformNode(Node):
             f'profile {self.sim.profile_name}: {self.sim.duration:.0f} s, '
             f'{(1.0 - self.sim.inside.mean()) * 100:.1f} % of commands clipped to the workspace, '
             f'{self.sim.limited_ticks} ticks speed/acceleration-limited; RMS tracking error '
+            '(Eq. 2.7-2.8 angles) '
             f'heave {error["heave"] * 1000:.1f} mm, roll {error["roll"] * 57.2958:.3f} deg, '
             f'pitch {error["pitch"] * 57.2958:.3f} deg')
 

@@ -36,8 +36,9 @@ PARAMETERS: tuple[ParamSpec, ...] = (
               read_only=True),
     ParamSpec('table_steps', 400, 'lookup-table grid steps per slider axis', low=50, high=2000, read_only=True),
     ParamSpec('cache_dir', '', 'lookup-table cache directory; empty: ~/.cache/tethersim/psr', read_only=True),
-    ParamSpec('reel_offset', [0.0, 0.0, 0.0], 'reel mount position in the platform frame from its centre; '
-              'the world origin is the mount at the level neutral pose', 'm', read_only=True),
+    ParamSpec('reel_offset', [0.0, 0.0, 0.0], 'reel mount position from the platform centre in the FLU boat '
+              'frame (x the bow = corner 1); the world origin is the mount at the level neutral pose', 'm',
+              read_only=True),
     ParamSpec('imu_gyro_noise', 0.002, 'IMU angular-rate white noise, standard deviation per sample', 'rad/s',
               low=0.0, high=10.0, read_only=True),
     ParamSpec('imu_accel_noise', 0.02, 'IMU acceleration white noise, standard deviation per sample', 'm/s^2',

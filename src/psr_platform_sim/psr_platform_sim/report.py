@@ -1,4 +1,9 @@
-"""After-run report of the platform: commanded vs. achieved roll, pitch and heave from a bag."""
+"""After-run report of the platform: commanded vs. achieved roll, pitch and heave from a bag.
+
+PlatformState carries both achieved and commanded roll and pitch as REP-103 angles of the
+FLU ``boat`` frame in ``world`` (see :mod:`psr_platform_sim.simulator`), so they are
+compared directly; the differences include the effect of the mechanism's coupled yaw.
+"""
 
 from __future__ import annotations
 
@@ -31,14 +36,14 @@ def _read_states(bag_path: Path) -> np.ndarray:
 
 
 def tracking_report(bag_path: str, out_dir: str) -> list[str]:
-    """Plot commanded vs. achieved roll, pitch, heave from /platform/state; return RMS error lines.
+    """Plot commanded vs. achieved roll, pitch (REP-103), heave from /platform/state; return RMS error lines.
 
     Args:
         bag_path: the run's rosbag2 MCAP file (or its directory).
+        out_dir: where ``platform_tracking.png`` is written.
 
     Raises:
         ValueError: the bag cannot be read.
-        out_dir: where ``platform_tracking.png`` is written.
     """
     data = _read_states(Path(bag_path))
     out = Path(out_dir)
@@ -49,8 +54,8 @@ def tracking_report(bag_path: str, out_dir: str) -> list[str]:
     error = data[:, 1:4] - data[:, 4:7]
     rms = np.sqrt(np.mean(error**2, axis=0))
     fig, axes = plt.subplots(3, 1, figsize=(10, 8), sharex=True)
-    for ax, i, label, scale in ((axes[0], 0, 'heave (m)', 1.0), (axes[1], 1, 'roll (deg)', np.degrees(1.0)),
-                                (axes[2], 2, 'pitch (deg)', np.degrees(1.0))):
+    for ax, i, label, scale in ((axes[0], 0, 'heave (m)', 1.0), (axes[1], 1, 'roll (deg, REP-103)', np.degrees(1.0)),
+                                (axes[2], 2, 'pitch (deg, REP-103)', np.degrees(1.0))):
         ax.plot(t, data[:, 4 + i] * scale, color='tab:blue', lw=1.2, label='commanded')
         ax.plot(t, data[:, 1 + i] * scale, color='tab:red', lw=0.8, ls='--', label='achieved')
         ax.set_ylabel(label)

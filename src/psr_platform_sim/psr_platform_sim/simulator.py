@@ -8,15 +8,31 @@ difference velocities). The achieved pose comes from the exact forward kinematic
 (Eq. 2.1-2.9) on a fine time grid; an IMU at the platform centre sees its angular
 velocity and specific force plus seeded white noise and constant bias.
 
-Frames (REP-103): the thesis's mechanism frame has rail 1 - the platform's bow, corner 1
-- on +y and the body axes x' (starboard), y' (bow), z' (up) of Eq. 2.4-2.6. Published
-poses use ``world`` (ENU) = the mechanism frame turned by -90 deg about z, so that the
-level platform's bow points along +x, and body frame ``boat`` = FLU (x bow, y port, z up);
-the world origin is the reel mount of the level platform at neutral heave. Heave, surge
-(world x) and sway (world y) are the platform centre's displacement from its neutral
-position. Roll, pitch and yaw keep the thesis's Eq. 2.7-2.9: roll about the bow axis
-(starboard down positive, as FLU roll), pitch about the starboard axis (bow up
-positive, the opposite sign of FLU pitch).
+Frames (REP-103, REP-105 names): the thesis's mechanism frame has rail 1 - the
+platform's bow, corner 1 - on +y and the body axes x' (starboard), y' (bow, Eq. 2.5),
+z' (up, Eq. 2.4) with x' = y' x z' (Eq. 2.6). Published poses use ``world`` (ENU) = the
+mechanism frame turned by -90 deg about z (:data:`MECHANISM_TO_WORLD`), so that rail 1
+and the level platform's bow lie on world +x, and the body frame ``boat`` = FLU: x the
+bow (corner 1, thesis y'), y port (-x'), z the platform normal (z'); at the level neutral
+pose ``boat`` is aligned with ``world``, whose origin is the reel mount there. Heave,
+surge (world x) and sway (world y) are the platform centre's displacement from its
+neutral position.
+
+Angles: the kinematics, the lookup table, the path generator, the thesis reproductions
+(:meth:`PlatformSimulator.tracking_error`, :meth:`PlatformSimulator.achieved_hrp`,
+``command``) and the motion profiles keep the thesis's Eq. 2.7-2.9 angles, the
+inverse of R' = Rx(pitch) Ry(roll) Rz(yaw) on [x', y', z'] (roll about the bow axis y',
+starboard down positive; pitch about x', bow up positive). The published angles
+(:meth:`PlatformSimulator.sample`, PlatformState) are REP-103's intrinsic Z-Y-X angles
+of the ``boat`` rotation R = Rz(yaw) Ry(pitch) Rx(roll): roll about the bow (starboard
+down positive), pitch about port (bow down positive), yaw about up (bow turning to port
+positive). In FLU the thesis rotation reads R = Ry(-pitch') Rx(roll') Rz(yaw'), so with
+zero thesis yaw - every commanded pose, including the boat profiles - REP roll = thesis
+roll and REP pitch = -thesis pitch exactly. The mechanism's coupled yaw makes the
+achieved REP angles differ from that at second order (a body-frame tilt turned by the
+yaw: up to 0.16 deg on HPR #1, whose coupled yaw stays below 0.8 deg; 2.3 deg on the
+workspace profile's outer loops, yaw up to 4.3 deg), so published commanded and achieved
+angles, both REP-103, differ by that much beyond the tracking error of the thesis angles.
 """
 
 from __future__ import annotations
@@ -29,6 +45,7 @@ from scipy.spatial.transform import Rotation
 
 from psr_platform_sim.kinematics import Design
 from psr_platform_sim.kinematics import platform_pose
+from psr_platform_sim.kinematics import rotation_from_angles
 from psr_platform_sim.kinematics import solve_corners
 from psr_platform_sim.path import PathGenerator
 from psr_platform_sim.path import central_velocity
@@ -44,9 +61,28 @@ MECHANISM_TO_WORLD = np.array([[0.0, 1.0, 0.0], [-1.0, 0.0, 0.0], [0.0, 0.0, 1.0
 """Rz(-90 deg): mechanism-frame vectors to ``world``; also thesis body axes to FLU."""
 
 
+def thesis_to_boat(rotation: np.ndarray) -> np.ndarray:
+    """Rotation of the FLU ``boat`` frame in ``world`` from the thesis body axes [x', y', z'] (Eq. 2.4-2.6).
+
+    ``rotation`` (..., 3, 3) holds x', y', z' as columns in the mechanism frame; the FLU
+    axes are (y', -x', z'), so both sides turn by :data:`MECHANISM_TO_WORLD`.
+    """
+    return MECHANISM_TO_WORLD @ rotation @ MECHANISM_TO_WORLD.T
+
+
+def rep103_angles(rotation: np.ndarray) -> np.ndarray:
+    """REP-103 roll, pitch, yaw (rad) of body-to-world rotations (..., 3, 3): R = Rz(yaw) Ry(pitch) Rx(roll)."""
+    return Rotation.from_matrix(rotation).as_euler('ZYX')[..., ::-1]
+
+
+def thesis_to_rep103(roll: np.ndarray, pitch: np.ndarray, yaw: np.ndarray) -> np.ndarray:
+    """REP-103 roll, pitch, yaw of the ``boat`` frame posed by thesis Eq. 2.7-2.9 angles, shape (..., 3)."""
+    return rep103_angles(thesis_to_boat(rotation_from_angles(roll, pitch, yaw)))
+
+
 @dataclass
 class PlatformSample:
-    """State of the platform at one instant (SI units, rad; see PlatformState.msg)."""
+    """State of the platform at one instant (SI units; REP-103 angles in rad; see PlatformState.msg)."""
 
     slider_height: np.ndarray
     slider_velocity: np.ndarray
@@ -103,6 +139,7 @@ class PlatformSimulator:
         self.command_t = profile.t
         self.command_dt = dt
         self.command = np.stack([path.heave, path.roll, path.pitch], axis=-1)
+        self.commanded_angles = thesis_to_rep103(path.roll, path.pitch, np.zeros_like(path.roll))[:, :2]
         self.requested = np.stack([profile.heave, profile.roll, profile.pitch], axis=-1)
         self.inside = path.inside
         self.rate = p['imu_rate']
@@ -115,11 +152,12 @@ class PlatformSimulator:
         self.converged = converged
         pose = platform_pose(corners)
         offset = np.array([0.0, 0.0, self.neutral_centre])
-        w = MECHANISM_TO_WORLD
-        self.rotation = w @ pose.rotation @ w.T  # FLU body to world
-        self.centre = (pose.p - offset) @ w.T
-        self.angles = np.stack([pose.roll, pose.pitch, pose.yaw], axis=-1)
-        self.angle_rates = np.gradient(self.angles, 1.0 / self.rate, axis=0)
+        self.rotation = thesis_to_boat(pose.rotation)  # FLU boat to world
+        self.centre = (pose.p - offset) @ MECHANISM_TO_WORLD.T
+        self.thesis_angles = np.stack([pose.roll, pose.pitch, pose.yaw], axis=-1)
+        self.quaternion = Rotation.from_matrix(self.rotation).as_quat()
+        self.angles = rep103_angles(self.rotation)
+        self.angle_rates = np.gradient(np.unwrap(self.angles, axis=0), 1.0 / self.rate, axis=0)
         self.velocity = np.gradient(self.centre, 1.0 / self.rate, axis=0)
         self.reel_offset = np.asarray(p['reel_offset'], dtype=float)
         self.reel_position = self.centre + self.rotation @ self.reel_offset - self.reel_offset
@@ -130,7 +168,6 @@ class PlatformSimulator:
                                                 omega[:, 1, 0] - omega[:, 0, 1]], axis=-1)
         accel = np.gradient(self.velocity, 1.0 / self.rate, axis=0) + np.array([0.0, 0.0, GRAVITY])
         self.specific_force = np.einsum('nki,nk->ni', self.rotation, accel)
-        self.quaternion = Rotation.from_matrix(self.rotation).as_quat()
 
     @property
     def duration(self) -> float:
@@ -138,7 +175,7 @@ class PlatformSimulator:
         return float(self.t[-1])
 
     def sample(self, time: float) -> PlatformSample:
-        """State at ``time`` seconds after the start (nearest fine-grid sample)."""
+        """State at ``time`` seconds after the start (nearest fine-grid sample), angles in REP-103."""
         i = int(np.clip(round(time * self.rate), 0, self.t.size - 1))
         c = int(np.clip(round(time / self.command_dt), 0, self.command_t.size - 1))
         held = time * self.rate > self.t.size - 1
@@ -153,18 +190,18 @@ class PlatformSimulator:
             pitch_rate=0.0 if held else float(self.angle_rates[i, 1]),
             yaw_rate=0.0 if held else float(self.angle_rates[i, 2]),
             commanded_heave=float(np.interp(time, self.command_t, self.command[:, 0])),
-            commanded_roll=float(np.interp(time, self.command_t, self.command[:, 1])),
-            commanded_pitch=float(np.interp(time, self.command_t, self.command[:, 2])),
+            commanded_roll=float(np.interp(time, self.command_t, self.commanded_angles[:, 0])),
+            commanded_pitch=float(np.interp(time, self.command_t, self.commanded_angles[:, 1])),
             in_workspace=bool(self.inside[c]),
             angular_velocity=zero3 if held else self.angular_velocity[i],
             specific_force=np.array([0.0, 0.0, GRAVITY]) @ self.rotation[i] if held else self.specific_force[i])
 
     def achieved_hrp(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """Achieved heave (m), roll and pitch (rad) on the fine time grid."""
-        return self.centre[:, 2], self.angles[:, 0], self.angles[:, 1]
+        """Achieved heave (m), roll and pitch (rad, Eq. 2.7-2.8) on the fine time grid."""
+        return self.centre[:, 2], self.thesis_angles[:, 0], self.thesis_angles[:, 1]
 
     def tracking_error(self) -> dict[str, float]:
-        """RMS of achieved minus commanded heave (m), roll and pitch (rad) on the command grid."""
+        """RMS of achieved minus commanded heave (m), roll and pitch (rad, Eq. 2.7-2.8) on the command grid."""
         achieved = np.stack([np.interp(self.command_t, self.t, a) for a in self.achieved_hrp()], axis=-1)
         rms = np.sqrt(np.mean((achieved - self.command) ** 2, axis=0))
         return {'heave': float(rms[0]), 'roll': float(rms[1]), 'pitch': float(rms[2])}

@@ -14,7 +14,10 @@
   thesis's, their heave is fitted into the replicator's 2.2 m range.
 
 Angles use the thesis convention of :mod:`psr_platform_sim.kinematics`: the boat's bow
-points along the body y axis, roll turns about it, pitch about the body x axis.
+points along the body y axis, roll turns about it (starboard down positive), pitch about
+the body x axis (bow up positive). The platform node publishes them as REP-103 angles of
+the FLU ``boat`` frame (roll unchanged, pitch negated at zero yaw; see
+:mod:`psr_platform_sim.simulator`).
 """
 
 from __future__ import annotations

@@ -8,7 +8,9 @@ import subprocess
 import sys
 import time
 
+import numpy as np
 import pytest
+from scipy.spatial.transform import Rotation
 
 rclpy = pytest.importorskip('rclpy')
 
@@ -74,10 +76,19 @@ def test_node_publishes_on_sim_time(tmp_path):
     assert all(b > a for a, b in zip(stamps, stamps[1:]))
     values = {spec.name: spec.default for spec in PARAMETERS}
     values.update(profile='hpr3', seed=3, cache_dir=str(tmp_path), table_steps=120, profile_duration=20.0)
-    expected = PlatformSimulator(values).sample(stamp)
-    assert state.roll == pytest.approx(expected.roll, abs=1e-12)
+    sim = PlatformSimulator(values)
+    expected = sim.sample(stamp)
+    assert [state.roll, state.pitch, state.yaw] == pytest.approx([expected.roll, expected.pitch, expected.yaw],
+                                                                  abs=1e-12)
     assert state.heave == pytest.approx(expected.heave, abs=1e-12)
     assert state.commanded_pitch == pytest.approx(expected.commanded_pitch, abs=1e-12)
+    # every reel pose's orientation has the REP-103 angles the state publishes for its stamp
+    for m in got['pose']:
+        q = m.pose.orientation
+        angles = Rotation.from_quat([q.x, q.y, q.z, q.w]).as_euler('ZYX')[::-1]
+        sample = sim.sample(m.header.stamp.sec + m.header.stamp.nanosec * 1e-9)
+        np.testing.assert_allclose([sample.roll, sample.pitch, sample.yaw], angles, rtol=0.0, atol=1e-9)
+    assert {m.header.frame_id for m in got['imu']} == {'boat'}
 
 
 def test_node_bad_profile_file_exits_2(tmp_path):

@@ -10,6 +10,7 @@ from psr_platform_sim.platform_params import PARAMETERS
 from psr_platform_sim.simulator import GRAVITY
 from psr_platform_sim.simulator import ImuModel
 from psr_platform_sim.simulator import PlatformSimulator
+from psr_platform_sim.simulator import thesis_to_rep103
 from psr_platform_sim.waves import ProfileError
 from tether_common.parameters import spec_table
 
@@ -111,7 +112,7 @@ def test_reel_mount_moves_with_the_platform_from_the_world_origin(tmp_path):
 
 @pytest.mark.parametrize(('roll', 'pitch'), [(10.0, 0.0), (0.0, 10.0), (-8.0, 12.0)])
 def test_published_frames_are_enu_and_flu_with_the_bow_east(tmp_path, roll, pitch):
-    """Thesis roll > 0 dips starboard (FLU roll > 0); thesis pitch > 0 raises the bow (FLU pitch < 0)."""
+    """Thesis roll > 0 dips starboard (REP-103 roll > 0); thesis pitch > 0 raises the bow (REP-103 pitch < 0)."""
     csv = tmp_path / 'tilt.csv'
     csv.write_text('time,heave,roll,pitch\n0,0,{0},{1}\n10,0,{0},{1}\n'.format(np.radians(roll), np.radians(pitch)))
     sim = PlatformSimulator(_params(tmp_path, profile=str(csv), ramp_time=0.0))
@@ -119,8 +120,8 @@ def test_published_frames_are_enu_and_flu_with_the_bow_east(tmp_path, roll, pitc
     rotation = Rotation.from_quat(s.quaternion).as_matrix()
     bow, port = rotation[:, 0], rotation[:, 1]
     assert bow[0] > 0.9 and port[1] > 0.9  # bow east, port north
-    np.testing.assert_allclose(np.degrees([s.roll, s.pitch]), [roll, pitch], atol=1e-6)
+    np.testing.assert_allclose(np.degrees(sim.thesis_angles[500, :2]), [roll, pitch], atol=1e-6)
     assert np.sign(port[2]) == np.sign(roll) or roll == 0.0  # starboard down lifts port
     assert np.sign(bow[2]) == np.sign(pitch) or pitch == 0.0
-    flu_yaw, flu_pitch, flu_roll = Rotation.from_quat(s.quaternion).as_euler('ZYX', degrees=True)
-    assert flu_roll == pytest.approx(roll, abs=1.0) and flu_pitch == pytest.approx(-pitch, abs=1.0)
+    np.testing.assert_allclose(thesis_to_rep103(*sim.thesis_angles[500]), [s.roll, s.pitch, s.yaw], atol=1e-12)
+    assert np.degrees(s.roll) == pytest.approx(roll, abs=0.5) and np.degrees(s.pitch) == pytest.approx(-pitch, abs=0.5)
