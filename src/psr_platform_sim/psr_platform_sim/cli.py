@@ -15,11 +15,11 @@ from pathlib import Path
 
 import numpy as np
 
+from tether_common.command_line import OneLineParser
+from tether_common.command_line import UsageError
+from tether_common.command_line import run_analysis
+
 PROG = 'tethersim psr'
-
-
-class UsageError(Exception):
-    """A user mistake: bad argument value or unreadable input file."""
 
 
 def _progress_printer(label: str):
@@ -222,8 +222,8 @@ def cmd_track(args: argparse.Namespace) -> list[str]:
 
 def build_parser() -> argparse.ArgumentParser:
     """The argparse parser of ``tethersim psr``."""
-    parser = argparse.ArgumentParser(prog=PROG, description=__doc__.splitlines()[0])
-    sub = parser.add_subparsers(dest='command', required=True)
+    parser = OneLineParser(prog=PROG, description=__doc__.splitlines()[0])
+    sub = parser.add_subparsers(dest='command', required=True, parser_class=OneLineParser)
 
     opt = sub.add_parser('optimize', help='design parameter study (Sec. 2.5)')
     opt.add_argument('--quick', action='store_true', help='coarse study: 5 %% steps, 100^2 slider grid')
@@ -258,21 +258,7 @@ def build_parser() -> argparse.ArgumentParser:
 
 def main(argv: list[str] | None = None) -> int:
     """Entry point of ``tethersim psr``; returns the exit status."""
-    parser = build_parser()
-    args = parser.parse_args(argv)
-    try:
-        args.out.mkdir(parents=True, exist_ok=True)
-        lines = args.func(args)
-    except UsageError as error:
-        print(f'{PROG}: error: {error}', file=sys.stderr)
-        return 2
-    except OSError as error:
-        print(f'{PROG}: error: {error.filename or ""}: {error.strerror or error}', file=sys.stderr)
-        return 2
-    text = '\n'.join(lines) + '\n'
-    (args.out / 'summary.txt').write_text(text)
-    print(text, end='')
-    return 0
+    return run_analysis(PROG, build_parser(), argv, lambda args: '\n'.join(args.func(args)))
 
 
 if __name__ == '__main__':
