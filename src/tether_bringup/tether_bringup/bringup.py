@@ -131,6 +131,7 @@ def execute(nodes: list[NodeConfig], source, options: RunOptions) -> int:
         lines += bag_summary_lines(bag_dir)
         report_lines, report_failed = _reports(options.reports, bag_dir, out)
         lines += report_lines
+        lines += [f'plot: {png}' for png in sorted(out.glob('*.png'))]
         if report_failed and status == 0:
             status = 1
     text = '\n'.join(lines) + '\n'
