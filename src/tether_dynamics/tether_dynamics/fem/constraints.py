@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import numpy as np
 import scipy.linalg
+import scipy.linalg.lapack
 
 
 def c1_matrix(n_elem: int) -> np.ndarray:
@@ -67,16 +68,32 @@ def banded_cholesky(m: np.ndarray, bandwidth: int) -> np.ndarray:
     return out
 
 
-def sparse_rows(m_ff: np.ndarray, c_f: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """c1 rows on the free nodes as (columns, values) padded with -1, and S^-1 = (C M^-1 C^T)^-1."""
-    nc = c_f.shape[0]
-    cols = -np.ones((nc, 5), np.int64)
-    vals = np.zeros((nc, 5))
-    for j in range(nc):
-        nz = np.nonzero(c_f[j])[0]
-        cols[j, :nz.size] = nz
-        vals[j, :nz.size] = c_f[j, nz]
-    if nc == 0:
-        return cols, vals, np.zeros((0, 0))
-    s = c_f @ scipy.linalg.solve(m_ff, c_f.T, assume_a='pos')
-    return cols, vals, np.ascontiguousarray(scipy.linalg.inv(s))
+def banded_kkt(m_ff: np.ndarray, c_f: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, int, int]:
+    """Banded LU of the multiplier system [M_ff C_f^T; C_f 0] of Eq. 8.44 (factorised once).
+
+    Each multiplier is placed right after the middle of the nodes its c1 row couples, so
+    the matrix stays banded (a few sub- and superdiagonals for any N) and one solve costs
+    O(N) instead of the O(N^2) of a dense Schur complement. LAPACK gbtrf with partial
+    pivoting (the diagonal of the multiplier block is zero).
+
+    Returns (lu, piv, row, kl, ku): lu[j] = column j of gbtrf's band storage, piv the
+    0-based row swaps, row[i] the row of free node i in the interleaved ordering.
+    """
+    nf, nc = m_ff.shape[0], c_f.shape[0]
+    key = np.concatenate([np.arange(nf, dtype=float),
+                          [np.mean(np.nonzero(c_f[j])[0]) + 0.5 for j in range(nc)]])
+    order = np.argsort(key, kind='stable')
+    kkt = np.block([[m_ff, c_f.T], [c_f, np.zeros((nc, nc))]])[np.ix_(order, order)]
+    rows, cols = np.nonzero(kkt)
+    kl, ku = int(np.max(rows - cols)), int(np.max(cols - rows))
+    n = nf + nc
+    ab = np.zeros((2 * kl + ku + 1, n))
+    for i, j in zip(rows, cols):
+        ab[kl + ku + i - j, j] = kkt[i, j]
+    lu, piv, info = scipy.linalg.lapack.dgbtrf(ab, kl, ku)
+    if info != 0:
+        msg = f'c1 multiplier system is singular (gbtrf info {info})'
+        raise ValueError(msg)
+    row = np.empty(nf, np.int64)
+    row[order[order < nf]] = np.nonzero(order < nf)[0]
+    return np.ascontiguousarray(lu.T), piv.astype(np.int64), row, kl, ku

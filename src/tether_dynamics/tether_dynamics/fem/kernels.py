@@ -6,17 +6,23 @@ whenever any of it changes. The model is passed as a tuple ``mdl`` built by
 
     (ip, fp, L_band, G, gload, kin_idx, kin_pos, kin_vel, kin_acc, Pi, Pi_inv, rho_c,
      X, V, F, A_kin, vec_scratch (9, 3), mat_scratch (3, 3, 3),
-     c1_cols, c1_vals, S_inv, P_last, work (n_f, 3), work (n_c, 3), work (n_f, 3))
+     kkt_lu, kkt_piv, kkt_row, P_last, work (n_f, 3), work (n_kkt, 3))
 
-L_band is the banded Cholesky factor of the free-node mass matrix, c1_cols / c1_vals the
-sparse c1 rows on free nodes, S_inv the inverse constraint Schur complement, P_last the
-last column of the constrained inverse mass (for the end body), G the map from kinematic
-node accelerations to free node accelerations.
+L_band is the banded Cholesky factor of the free-node mass matrix (linear elements);
+kkt_lu / kkt_piv the banded LU factors (LAPACK gbtrf layout, transposed) of the c1
+multiplier system of Eq. 8.44 with multipliers interleaved between the nodes they couple,
+kkt_row the row of each free node in that ordering (quadratic elements; empty for
+linear); P_last the last column of the constrained inverse mass (for the end body), G the
+map from kinematic node accelerations to free node accelerations.
+
+The hot loops unpack the tuple once and pass plain arrays down (``_rhs(t, y, dy, *mdl)``):
+taking arrays out of the tuple inside every right-hand side costs reference counting
+that dominated the run time of small models.
 
 ip (int64): element type (1 linear, 2 quadratic), n_all nodes, n_elem, first free node f0,
 one past the last free node f1, end kind (0 kinematic, 1 point mass, 2 rigid body),
 Kelvin-Voigt on, drag on, wind on, number of kinematic nodes, samples per kinematic table,
-tension-only, any prescribed (moving) end.
+tension-only, any prescribed (moving) end, KKT sub- and superdiagonals kl, ku.
 fp (float64): EA, l0, mu, g (3), end mass, Kelvin-Voigt c, air density, Cd normal,
 Cd tangential, diameter, wind U (3), wind z_ref, wind alpha, wind z_ground, table t0,
 table dt, end force (3), strain limit.
@@ -35,7 +41,7 @@ STATUS_NONFINITE = 1
 STATUS_STRAIN = 2
 
 
-@njit(cache=True)
+@njit(cache=True, _nrt=False)
 def _kinematic_nodes(t, ip, fp, kin_idx, kin_pos, kin_vel, kin_acc, x, v, a_k):
     """Positions, velocities, accelerations of prescribed nodes at time t (Hermite tables).
 
@@ -74,21 +80,18 @@ def _kinematic_of_model(t, mdl):
         _kinematic_nodes(t, mdl[0], mdl[1], mdl[5], mdl[6], mdl[7], mdl[8], mdl[12], mdl[13], mdl[15])
 
 
-@njit(cache=True, inline='always')
-def _unpack(y, mdl):
+@njit(cache=True, _nrt=False)
+def _unpack(y, ip, x, v):
     """Fill the free-node position / velocity work arrays from the state.
 
     Moving (prescribed) ends are set separately by _kinematic_nodes for the same t.
     """
-    ip = mdl[0]
-    x, v = mdl[12], mdl[13]
     f0, f1 = ip[3], ip[4]
     nf = f1 - f0
     for i in range(nf):
         for c in range(3):
             x[f0 + i, c] = y[3 * i + c]
             v[f0 + i, c] = y[3 * nf + 3 * i + c]
-
 
 
 @njit(cache=True, inline='always')
@@ -117,11 +120,9 @@ def _tension(length, l_dot_l, ea, l0, kv_on, c_kv, tension_only):
     return t
 
 
-@njit(cache=True, inline='always')
-def _elastic_forces(mdl):
+@njit(cache=True, _nrt=False)
+def _elastic_forces(ip, fp, x, v, f):
     """Add element forces to F: Eq. 8.8/8.10 (linear) or Eq. D.8-D.12 (quadratic)."""
-    ip, fp = mdl[0], mdl[1]
-    x, v, f = mdl[12], mdl[13], mdl[14]
     ea, l0, c_kv = fp[0], fp[1], fp[7]
     kv_on = ip[6] == 1
     tension_only = ip[11] == 1
@@ -170,41 +171,48 @@ def _elastic_forces(mdl):
                         f[n0 + k, 2] -= q * l_2 * sk
 
 
-@njit(cache=True)
+@njit(cache=True, _nrt=False)
+def _shape(npe, g, k, l0):
+    """Shape function k and its d/ds at Gauss point g (2-point rule) of a linear (npe 2) or
+    quadratic (npe 3) element of length l0."""
+    if npe == 2:
+        z = 0.5 - 0.5 * SQRT3_INV if g == 0 else 0.5 + 0.5 * SQRT3_INV
+        if k == 0:
+            return 1.0 - z, -1.0 / l0
+        return z, 1.0 / l0
+    z = -SQRT3_INV if g == 0 else SQRT3_INV
+    if k == 0:
+        return (z * z - z) / 2, (2 * z - 1) / l0
+    if k == 1:
+        return 1 - z * z, -4 * z / l0
+    return (z * z + z) / 2, (2 * z + 1) / l0
+
+
+@njit(cache=True, _nrt=False)
 def _drag_forces(ip, fp, x, v, f):
     """Add air drag 1/2 rho |u| u C_D A (normal and tangential) at 2 Gauss points per element."""
     l0 = fp[1]
     half_rho_d = 0.5 * fp[8] * fp[11]
     cdn, cdt = fp[9], np.pi * fp[10]
     npe = 2 if ip[0] == 1 else 3
-    sh = np.zeros(3)
-    sl = np.zeros(3)
+    wjac = 0.5 * l0
     for e in range(ip[2]):
         n0 = e * (npe - 1)
         for g in range(2):
-            if npe == 2:
-                z = 0.5 - 0.5 * SQRT3_INV if g == 0 else 0.5 + 0.5 * SQRT3_INV
-                sh[0], sh[1] = 1.0 - z, z
-                sl[0], sl[1] = -1.0 / l0, 1.0 / l0
-                wjac = 0.5 * l0
-            else:
-                z = -SQRT3_INV if g == 0 else SQRT3_INV
-                sh[0], sh[1], sh[2] = (z * z - z) / 2, 1 - z * z, (z * z + z) / 2
-                sl[0], sl[1], sl[2] = (2 * z - 1) / l0, -4 * z / l0, (2 * z + 1) / l0
-                wjac = 0.5 * l0
             r0 = r1 = r2 = 0.0
             u0 = u1 = u2 = 0.0
             t0 = t1 = t2 = 0.0
             for k in range(npe):
-                r0 += sh[k] * x[n0 + k, 0]
-                r1 += sh[k] * x[n0 + k, 1]
-                r2 += sh[k] * x[n0 + k, 2]
-                u0 -= sh[k] * v[n0 + k, 0]
-                u1 -= sh[k] * v[n0 + k, 1]
-                u2 -= sh[k] * v[n0 + k, 2]
-                t0 += sl[k] * x[n0 + k, 0]
-                t1 += sl[k] * x[n0 + k, 1]
-                t2 += sl[k] * x[n0 + k, 2]
+                sh, sl = _shape(npe, g, k, l0)
+                r0 += sh * x[n0 + k, 0]
+                r1 += sh * x[n0 + k, 1]
+                r2 += sh * x[n0 + k, 2]
+                u0 -= sh * v[n0 + k, 0]
+                u1 -= sh * v[n0 + k, 1]
+                u2 -= sh * v[n0 + k, 2]
+                t0 += sl * x[n0 + k, 0]
+                t1 += sl * x[n0 + k, 1]
+                t2 += sl * x[n0 + k, 2]
             if ip[8] == 1:
                 w0, w1, w2 = _wind(r2, fp)
                 u0 += w0
@@ -223,7 +231,7 @@ def _drag_forces(ip, fp, x, v, f):
             fy = k_n * un1 + k_t * ut * e1
             fz = k_n * un2 + k_t * ut * e2
             for k in range(npe):
-                wk = wjac * sh[k]
+                wk = wjac * _shape(npe, g, k, l0)[0]
                 f[n0 + k, 0] += wk * fx
                 f[n0 + k, 1] += wk * fy
                 f[n0 + k, 2] += wk * fz
@@ -266,28 +274,25 @@ def _mv(a, x, out, transpose):
         out[r] = acc
 
 
-@njit(cache=True, inline='always')
-def _end_body(y, base, mdl):
+@njit(cache=True, _nrt=False)
+def _end_body(y, base, ip, fp, pi_m, pi_inv, rho_c, vec, mat):
     """Point mass or rigid body at the last free node (Eq. 7.13 condensed).
 
     With the body's rotational equation solved for Omega-dot and substituted, the body
     acts on its node as a force F_b - M_e a_n, M_e = m I + m^2 R rho^ Pi^-1 rho^ R^T.
     Writes F_b to vec[0], M_e to mat[0] and the torque without the a_n term to vec[8].
     """
-    ip, fp = mdl[0], mdl[1]
-    pi_m, pi_inv, rho_c = mdl[9], mdl[10], mdl[11]
-    vec, mat = mdl[16], mdl[17]
     m = fp[6]
-    fb, tau, tmp, tmp2, grav = vec[0], vec[8], vec[2], vec[3], vec[4]
-    me = mat[0]
     for c in range(3):
-        grav[c] = fp[3 + c]
-        fb[c] = m * grav[c] + fp[20 + c]
-        tau[c] = 0.0
+        vec[4, c] = fp[3 + c]
+        vec[0, c] = m * fp[3 + c] + fp[20 + c]
+        vec[8, c] = 0.0
         for k in range(3):
-            me[c, k] = m if c == k else 0.0
+            mat[0, c, k] = m if c == k else 0.0
     if ip[5] != 2:
         return
+    fb, tau, tmp, tmp2, grav = vec[0], vec[8], vec[2], vec[3], vec[4]
+    me = mat[0]
     om = y[base:base + 3]
     rot = y[base + 3:base + 12].reshape((3, 3))
     _mv(pi_m, om, tmp, False)
@@ -318,7 +323,7 @@ def _end_body(y, base, mdl):
             me[r, k] += m * m * tmp[r]
 
 
-@njit(cache=True, inline='always')
+@njit(cache=True, _nrt=False)
 def _band_solve(lb, u):
     """Solve M u_new = u in place, M = L L^T with L banded: lb[i, k] = L[i, i - k] for k > 0
     and lb[i, 0] = 1 / L[i, i]."""
@@ -343,73 +348,83 @@ def _band_solve(lb, u):
         u[i, 0], u[i, 1], u[i, 2] = a0 * d, a1 * d, a2 * d
 
 
-@njit(cache=True, inline='always')
-def _constrained_solve(mdl):
-    """u = P F_f: the multiplier system of Eq. 8.44 solved through M = L L^T (banded) and
-    the constraint Schur complement S = C M^-1 C^T (precomputed inverse):
-    u = M^-1 F - M^-1 C^T S^-1 C M^-1 F.
+@njit(cache=True, _nrt=False)
+def _kkt_solve(ab, piv, kl, ku, b):
+    """Solve A x = b in place (3 columns) with A's banded LU from LAPACK gbtrf (as dgbtrs).
+
+    ab[j] is column j of gbtrf's band storage: U[i, j] at ab[j, kl + ku + i - j], the
+    multipliers of column j at ab[j, kl + ku + 1 ...]; piv holds 0-based row swaps.
+    O(n (kl + ku)) per solve.
     """
-    ip, f, lb = mdl[0], mdl[14], mdl[2]
-    cf_cols, cf_vals, s_inv = mdl[18], mdl[19], mdl[20]
-    u, w, z = mdl[22], mdl[23], mdl[24]
+    n = b.shape[0]
+    kd = kl + ku
+    for j in range(n - 1):
+        p = piv[j]
+        if p != j:
+            for c in range(3):
+                b[j, c], b[p, c] = b[p, c], b[j, c]
+        b0, b1, b2 = b[j, 0], b[j, 1], b[j, 2]
+        for i in range(1, min(kl, n - 1 - j) + 1):
+            lij = ab[j, kd + i]
+            b[j + i, 0] -= lij * b0
+            b[j + i, 1] -= lij * b1
+            b[j + i, 2] -= lij * b2
+    for j in range(n - 1, -1, -1):
+        d = ab[j, kd]
+        b0, b1, b2 = b[j, 0] / d, b[j, 1] / d, b[j, 2] / d
+        b[j, 0], b[j, 1], b[j, 2] = b0, b1, b2
+        for i in range(max(0, j - kd), j):
+            uij = ab[j, kd + i - j]
+            b[i, 0] -= uij * b0
+            b[i, 1] -= uij * b1
+            b[i, 2] -= uij * b2
+
+
+@njit(cache=True, _nrt=False)
+def _constrained_solve(ip, f, lb, kkt_lu, kkt_piv, kkt_row, u, kw):
+    """u = P F_f: M_ff^-1 F_f by the banded Cholesky factor (no constraints), or the c1
+    multiplier system of Eq. 8.44, [M_ff C_f^T; C_f 0] [u; lambda] = [F_f; 0], by its
+    banded LU (multipliers interleaved with the nodes, so the band stays narrow): O(N).
+    """
     f0 = ip[3]
     nf = ip[4] - f0
-    nc = cf_cols.shape[0]
-    for i in range(nf):
-        for c in range(3):
-            u[i, c] = f[f0 + i, c]
-    _band_solve(lb, u)
-    if nc > 0:
-        for j in range(nc):
-            for c in range(3):
-                acc = 0.0
-                for k in range(cf_cols.shape[1]):
-                    col = cf_cols[j, k]
-                    if col >= 0:
-                        acc += cf_vals[j, k] * u[col, c]
-                w[j, c] = acc
-        z[:, :] = 0.0
-        for j in range(nc):
-            l0 = l1 = l2 = 0.0
-            for i in range(nc):
-                sji = s_inv[j, i]
-                l0 += sji * w[i, 0]
-                l1 += sji * w[i, 1]
-                l2 += sji * w[i, 2]
-            for k in range(cf_cols.shape[1]):
-                col = cf_cols[j, k]
-                if col >= 0:
-                    v = cf_vals[j, k]
-                    z[col, 0] += v * l0
-                    z[col, 1] += v * l1
-                    z[col, 2] += v * l2
-        _band_solve(lb, z)
+    if kkt_row.size == 0:
         for i in range(nf):
             for c in range(3):
-                u[i, c] -= z[i, c]
+                u[i, c] = f[f0 + i, c]
+        _band_solve(lb, u)
+        return
+    for i in range(kw.shape[0]):
+        for c in range(3):
+            kw[i, c] = 0.0
+    for i in range(nf):
+        r = kkt_row[i]
+        for c in range(3):
+            kw[r, c] = f[f0 + i, c]
+    _kkt_solve(kkt_lu, kkt_piv, ip[13], ip[14], kw)
+    for i in range(nf):
+        r = kkt_row[i]
+        for c in range(3):
+            u[i, c] = kw[r, c]
 
 
-@njit(cache=True, inline='always')
-def rhs(t, y, dy, mdl):
-    """First-order ODE dy/dt (Eq. 8.18 / 8.42): nodes, end body (Eq. 7.13), rotation (Eq. A.8).
-
-    Moving ends must already be set to time t (_kinematic_nodes); the steppers do that.
-    """
-    ip, fp, g_op, gload = mdl[0], mdl[1], mdl[3], mdl[4]
-    pi_inv, rho_c, p_last = mdl[10], mdl[11], mdl[21]
-    f, a_k, vec, mat = mdl[14], mdl[15], mdl[16], mdl[17]
+@njit(cache=True, _nrt=False)
+def _rhs(t, y, dy, ip, fp, lb, g_op, gload, kin_idx, kin_pos, kin_vel, kin_acc, pi_m, pi_inv, rho_c,
+         x, v, f, a_k, vec, mat, kkt_lu, kkt_piv, kkt_row, p_last, u, kw):
+    """:func:`rhs` on the unpacked model tuple."""
     f0, f1 = ip[3], ip[4]
     nf = f1 - f0
-    _unpack(y, mdl)
-    f[:, :] = gload
-    _elastic_forces(mdl)
+    _unpack(y, ip, x, v)
+    for i in range(f.shape[0]):
+        for c in range(3):
+            f[i, c] = gload[i, c]
+    _elastic_forces(ip, fp, x, v, f)
     if ip[7] == 1:
-        _drag_forces(ip, fp, mdl[12], mdl[13], f)
+        _drag_forces(ip, fp, x, v, f)
     for i in range(3 * nf):
         dy[i] = y[3 * nf + i]
     va = 3 * nf
-    u = mdl[22]
-    _constrained_solve(mdl)
+    _constrained_solve(ip, f, lb, kkt_lu, kkt_piv, kkt_row, u, kw)
     for i in range(nf):
         a0, a1, a2 = u[i, 0], u[i, 1], u[i, 2]
         for k in range(ip[9]):
@@ -425,45 +440,59 @@ def rhs(t, y, dy, mdl):
         dy[base + i] = 0.0
     if ip[5] == 0:
         return
-    _end_body(y, base, mdl)
-    fb, tau, a_n, rhs3, corr = vec[0], vec[8], vec[5], vec[6], vec[7]
-    me, a3, tmp = mat[0], mat[1], mat[2]
+    _end_body(y, base, ip, fp, pi_m, pi_inv, rho_c, vec, mat)
+    # vec rows: 0 F_b, 8 torque, 5 a_n, 6 right-hand side, 7 correction; mat: 0 M_e, 1 system, 2 scratch.
     c_last = p_last[nf - 1]
     last = va + 3 * (nf - 1)
     for r in range(3):
-        rhs3[r] = dy[last + r] + c_last * fb[r]
+        vec[6, r] = dy[last + r] + c_last * vec[0, r]
         for c in range(3):
-            a3[r, c] = (1.0 if r == c else 0.0) + c_last * me[r, c]
-    _solve3(a3, rhs3, a_n, tmp)
+            mat[1, r, c] = (1.0 if r == c else 0.0) + c_last * mat[0, r, c]
+    _solve3(mat[1], vec[6], vec[5], mat[2])
     for r in range(3):
-        corr[r] = fb[r] - (me[r, 0] * a_n[0] + me[r, 1] * a_n[1] + me[r, 2] * a_n[2])
+        vec[7, r] = vec[0, r] - (mat[0, r, 0] * vec[5, 0] + mat[0, r, 1] * vec[5, 1] + mat[0, r, 2] * vec[5, 2])
+    c0, c1, c2 = vec[7, 0], vec[7, 1], vec[7, 2]
     for i in range(nf):
         ci = p_last[i]
-        dy[va + 3 * i] += ci * corr[0]
-        dy[va + 3 * i + 1] += ci * corr[1]
-        dy[va + 3 * i + 2] += ci * corr[2]
+        dy[va + 3 * i] += ci * c0
+        dy[va + 3 * i + 1] += ci * c1
+        dy[va + 3 * i + 2] += ci * c2
     if ip[5] == 2:
-        om = y[base:base + 3]
-        rot = y[base + 3:base + 12].reshape((3, 3))
-        tmp1, tmp2 = vec[2], vec[3]
-        _mv(rot, dy[last:last + 3], tmp1, True)
-        _cross(rho_c, tmp1, tmp2)
-        for c in range(3):
-            tmp2[c] = tau[c] - fp[6] * tmp2[c]
-        _mv(pi_inv, tmp2, tmp1, False)
-        for c in range(3):
-            dy[base + c] = tmp1[c]
-        for r in range(3):
-            for c in range(3):
-                # column c of R Omega^ is R (Omega x e_c)
-                k1, k2 = (c + 1) % 3, (c + 2) % 3
-                dy[base + 3 + 3 * r + c] = rot[r, k1] * om[k2] - rot[r, k2] * om[k1]
+        _body_rates(y, dy, base, last, fp, pi_inv, rho_c, vec)
 
 
-@njit(cache=True, inline='always')
-def max_strain(mdl):
+@njit(cache=True, _nrt=False)
+def _body_rates(y, dy, base, last, fp, pi_inv, rho_c, vec):
+    """Omega-dot (Eq. 7.13 rotational part, with the node acceleration) and R-dot = R Omega^ (Eq. A.8)."""
+    om = y[base:base + 3]
+    rot = y[base + 3:base + 12].reshape((3, 3))
+    tau, tmp1, tmp2 = vec[8], vec[2], vec[3]
+    _mv(rot, dy[last:last + 3], tmp1, True)
+    _cross(rho_c, tmp1, tmp2)
+    for c in range(3):
+        tmp2[c] = tau[c] - fp[6] * tmp2[c]
+    _mv(pi_inv, tmp2, tmp1, False)
+    for c in range(3):
+        dy[base + c] = tmp1[c]
+    for r in range(3):
+        for c in range(3):
+            # column c of R Omega^ is R (Omega x e_c)
+            k1, k2 = (c + 1) % 3, (c + 2) % 3
+            dy[base + 3 + 3 * r + c] = rot[r, k1] * om[k2] - rot[r, k2] * om[k1]
+
+
+@njit(cache=True)
+def rhs(t, y, dy, mdl):
+    """First-order ODE dy/dt (Eq. 8.18 / 8.42): nodes, end body (Eq. 7.13), rotation (Eq. A.8).
+
+    Moving ends must already be set to time t (_kinematic_nodes); the steppers do that.
+    """
+    _rhs(t, y, dy, *mdl)
+
+
+@njit(cache=True, _nrt=False)
+def _max_strain(ip, fp, x):
     """Largest strain over elements (Gauss points for quadratic) of the current X, and its element."""
-    ip, fp, x = mdl[0], mdl[1], mdl[12]
     l0 = fp[1]
     worst, where = -1.0, 0
     for e in range(ip[2]):
@@ -492,12 +521,9 @@ def max_strain(mdl):
     return worst, where
 
 
-@njit(cache=True, inline='always')
-def _renormalize(y, mdl):
+@njit(cache=True)
+def _renormalize(y, ip):
     """Keep the rotation block of y orthonormal: one Newton step of the polar decomposition."""
-    ip = mdl[0]
-    if ip[5] != 2:
-        return
     base = 6 * (ip[4] - ip[3]) + 3
     rot = y[base:base + 9].reshape((3, 3)).copy()
     rot = 1.5 * rot - 0.5 * rot @ (rot.T @ rot)
@@ -506,8 +532,8 @@ def _renormalize(y, mdl):
             y[base + 3 * r + c] = rot[r, c]
 
 
-@njit(cache=True, inline='always')
-def _check(y, mdl):
+@njit(cache=True, _nrt=False)
+def _check(y, ip, fp, x):
     """Return (status, element, strain) for the state y just reached by a step.
 
     Kinematic node positions are those of the last right-hand side call, which both
@@ -518,14 +544,13 @@ def _check(y, mdl):
         total += y[i]
     if not np.isfinite(total):
         return STATUS_NONFINITE, -1, np.nan
-    ip, x = mdl[0], mdl[12]
     f0 = ip[3]
     for i in range(ip[4] - f0):
         x[f0 + i, 0] = y[3 * i]
         x[f0 + i, 1] = y[3 * i + 1]
         x[f0 + i, 2] = y[3 * i + 2]
-    eps, e = max_strain(mdl)
-    if eps > mdl[1][23]:
+    eps, e = _max_strain(ip, fp, x)
+    if eps > fp[23]:
         return STATUS_STRAIN, e, eps
     return STATUS_OK, e, eps
 
@@ -536,6 +561,8 @@ def run_rk4(y0, t0, dt, n_steps, rec_every, mdl):
 
     Returns (t_rec, y_rec, n_rec, status, t_fail, element, strain).
     """
+    (ip, fp, lb, g_op, gload, kin_idx, kin_pos, kin_vel, kin_acc, pi_m, pi_inv, rho_c,
+     x, v, f, a_k, vec, mat, kkt_lu, kkt_piv, kkt_row, p_last, u, kw) = mdl
     n = y0.size
     n_rec_max = n_steps // rec_every + 1
     y_rec = np.empty((n_rec_max, n))
@@ -545,9 +572,7 @@ def run_rk4(y0, t0, dt, n_steps, rec_every, mdl):
     yt = np.empty(n)
     dy = np.empty(n)
     c_stage = np.array([0.0, 0.5, 0.5, 1.0])
-    ip, fp = mdl[0], mdl[1]
     moving = ip[12] == 1
-    kin_idx, kin_pos, kin_vel, kin_acc, x, v, a_k = mdl[5], mdl[6], mdl[7], mdl[8], mdl[12], mdl[13], mdl[15]
     y_rec[0] = y
     t_rec[0] = t0
     n_rec = 1
@@ -563,13 +588,15 @@ def run_rk4(y0, t0, dt, n_steps, rec_every, mdl):
                     yt[i] = y[i] + h * k[st - 1, i]
             if moving:
                 _kinematic_nodes(t + c_stage[st] * dt, ip, fp, kin_idx, kin_pos, kin_vel, kin_acc, x, v, a_k)
-            rhs(t + c_stage[st] * dt, yt, dy, mdl)
+            _rhs(t + c_stage[st] * dt, yt, dy, ip, fp, lb, g_op, gload, kin_idx, kin_pos, kin_vel, kin_acc,
+                 pi_m, pi_inv, rho_c, x, v, f, a_k, vec, mat, kkt_lu, kkt_piv, kkt_row, p_last, u, kw)
             for i in range(n):
                 k[st, i] = dy[i]
         for i in range(n):
             y[i] += dt / 6.0 * (k[0, i] + 2.0 * k[1, i] + 2.0 * k[2, i] + k[3, i])
-        _renormalize(y, mdl)
-        status, e, eps = _check(y, mdl)
+        if ip[5] == 2:
+            _renormalize(y, ip)
+        status, e, eps = _check(y, ip, fp, x)
         if status != STATUS_OK:
             return t_rec, y_rec, n_rec, status, t + dt, e, eps
         if (s + 1) % rec_every == 0:
@@ -598,7 +625,8 @@ def run_verlet(y0, t0, dt, n_steps, rec_every, mdl):
     orthonormal. Velocity-dependent forces (drag, damping, gyroscopic) are evaluated with
     the half-step velocity. Returns as :func:`run_rk4`.
     """
-    ip = mdl[0]
+    (ip, fp, lb, g_op, gload, kin_idx, kin_pos, kin_vel, kin_acc, pi_m, pi_inv, rho_c,
+     x, v, f, a_k, vec, mat, kkt_lu, kkt_piv, kkt_row, p_last, u, kw) = mdl
     nf = ip[4] - ip[3]
     n = y0.size
     base = 6 * nf
@@ -610,20 +638,19 @@ def run_verlet(y0, t0, dt, n_steps, rec_every, mdl):
     y_rec[0] = y
     t_rec[0] = t0
     n_rec = 1
-    fp = mdl[1]
     moving = ip[12] == 1
-    kin_idx, kin_pos, kin_vel, kin_acc, x, v, a_k = mdl[5], mdl[6], mdl[7], mdl[8], mdl[12], mdl[13], mdl[15]
     for s in range(n_steps + 1):
         t = t0 + s * dt
         if moving:
             _kinematic_nodes(t, ip, fp, kin_idx, kin_pos, kin_vel, kin_acc, x, v, a_k)
-        rhs(t, y, dy, mdl)
+        _rhs(t, y, dy, ip, fp, lb, g_op, gload, kin_idx, kin_pos, kin_vel, kin_acc,
+             pi_m, pi_inv, rho_c, x, v, f, a_k, vec, mat, kkt_lu, kkt_piv, kkt_row, p_last, u, kw)
         if s > 0:
             for i in range(3 * nf):
                 y[3 * nf + i] += 0.5 * dt * dy[3 * nf + i]
             for i in range(3):
                 y[base + i] += 0.5 * dt * dy[base + i]
-            status, e, eps = _check(y, mdl)
+            status, e, eps = _check(y, ip, fp, x)
             if status != STATUS_OK:
                 return t_rec, y_rec, n_rec, status, t, e, eps
             if s % rec_every == 0:
@@ -649,13 +676,13 @@ def run_verlet(y0, t0, dt, n_steps, rec_every, mdl):
 @njit(cache=True)
 def node_forces(t, y, mdl):
     """Nodal forces (gravity + elastic + drag) of state y, for tests and statics."""
+    ip, fp, x, v, f = mdl[0], mdl[1], mdl[12], mdl[13], mdl[14]
     _kinematic_of_model(t, mdl)
-    _unpack(y, mdl)
-    f = mdl[14]
+    _unpack(y, ip, x, v)
     f[:, :] = mdl[4]
-    _elastic_forces(mdl)
-    if mdl[0][7] == 1:
-        _drag_forces(mdl[0], mdl[1], mdl[12], mdl[13], f)
+    _elastic_forces(ip, fp, x, v, f)
+    if ip[7] == 1:
+        _drag_forces(ip, fp, x, v, f)
     return f.copy()
 
 
@@ -667,7 +694,7 @@ def unpack_all(t_rec, y_rec, mdl):
     vs = np.empty((t_rec.size, n_all, 3))
     for r in range(t_rec.size):
         _kinematic_of_model(t_rec[r], mdl)
-        _unpack(y_rec[r], mdl)
+        _unpack(y_rec[r], mdl[0], mdl[12], mdl[13])
         xs[r] = mdl[12]
         vs[r] = mdl[13]
     return xs, vs

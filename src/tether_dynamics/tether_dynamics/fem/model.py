@@ -167,9 +167,14 @@ def compile_scene(scene: Scene, t0: float = 0.0, t1: float = 0.0, sample_dt: flo
     else:
         pi_m, rho_c, omega0, rot0 = np.eye(3), np.zeros(3), np.zeros(3), np.eye(3)
     drag, wind, kv = scene.drag, scene.wind, scene.damping
+    band = constraints.banded_cholesky(m_all[np.ix_(free, free)], 1 if tet.element == 'linear' else 2)
+    if c_all.shape[0]:
+        kkt_lu, kkt_piv, kkt_row, kl, ku = constraints.banded_kkt(m_all[np.ix_(free, free)], c_all[:, free])
+    else:
+        kkt_lu, kkt_piv, kkt_row, kl, ku = np.zeros((0, 1)), np.zeros(0, np.int64), np.zeros(0, np.int64), 0, 0
     ip = np.array([1 if tet.element == 'linear' else 2, n_all, tet.n_elem, free[0], free[-1] + 1,
                    end_kind, kv is not None, drag is not None, wind is not None, len(kin_idx), n_s,
-                   tet.tension_only, any(isinstance(e, PrescribedMotion) for e, _ in kinematic_ends)],
+                   tet.tension_only, any(isinstance(e, PrescribedMotion) for e, _ in kinematic_ends), kl, ku],
                   np.int64)
     wind_u = np.asarray(wind.velocity, float) if wind else np.zeros(3)
     fp = np.array([tet.ea, l0, tet.mu, *grav, mass, kv.coefficient if kv else 0.0,
@@ -177,16 +182,13 @@ def compile_scene(scene: Scene, t0: float = 0.0, t1: float = 0.0, sample_dt: flo
                    drag.cd_tangential if drag else 0.0, drag.diameter if drag else 0.0,
                    *wind_u, wind.z_ref if wind else 1.0, wind.alpha if wind else 0.0,
                    wind.z_ground if wind else 0.0, t0, sample_dt, *force, scene.strain_limit])
-    band = constraints.banded_cholesky(m_all[np.ix_(free, free)], 1 if tet.element == 'linear' else 2)
-    c1_cols, c1_vals, s_inv = constraints.sparse_rows(m_all[np.ix_(free, free)], c_all[:, free])
-    nc = c1_cols.shape[0]
     x_work, v_work = np.array(nodes), np.zeros((n_all, 3))
     v_work[kin_idx] = vel[:, 0]
     work = (x_work, v_work, np.zeros((n_all, 3)), np.zeros((len(kin_idx), 3)),
             np.zeros((9, 3)), np.zeros((3, 3, 3)))
     mdl = (ip, fp, band, np.ascontiguousarray(g_op), gload, kin_idx, pos, vel, acc,
-           pi_m, np.ascontiguousarray(scipy.linalg.inv(pi_m)), rho_c, *work, c1_cols, c1_vals, s_inv,
-           np.ascontiguousarray(p_op[:, -1]), np.zeros((free.size, 3)), np.zeros((nc, 3)), np.zeros((free.size, 3)))
+           pi_m, np.ascontiguousarray(scipy.linalg.inv(pi_m)), rho_c, *work, kkt_lu, kkt_piv, kkt_row,
+           np.ascontiguousarray(p_op[:, -1]), np.zeros((free.size, 3)), np.zeros((kkt_lu.shape[0], 3)))
     v_init = np.zeros((n_all, 3)) if scene.velocities is None else np.array(scene.velocities, float)
     v_init[kin_idx] = vel[:, 0]
     if c_all.shape[0]:
