@@ -114,3 +114,21 @@ def test_compiled_accelerations_solve_the_multiplier_system(element: str) -> Non
     np.testing.assert_allclose(acc, expected, rtol=1e-9, atol=1e-9 * np.abs(expected).max())
     if n_c:
         assert np.max(np.abs(c_f @ acc)) < 1e-9 * np.abs(acc).max()
+
+
+@pytest.mark.parametrize('n_elem', [1, 2, 7])
+@pytest.mark.parametrize('far_pinned', [False, True])
+def test_c1_basis_spans_the_constrained_space_with_a_narrow_band(n_elem: int, far_pinned: bool) -> None:
+    n_all = 2 * n_elem + 1
+    kinematic = np.array([0, n_all - 1] if far_pinned else [0])
+    free = np.arange(1, n_all - 1 if far_pinned else n_all)
+    c_f = constraints.c1_matrix(n_elem)[:, free]
+    z = constraints.c1_basis(n_elem, free, kinematic)
+    assert z.shape == (free.size, free.size - c_f.shape[0])
+    assert np.linalg.matrix_rank(z) == z.shape[1]
+    if c_f.size:
+        assert np.max(np.abs(c_f @ z)) < 1e-14
+    assert np.max(np.count_nonzero(z, axis=1)) <= 3
+    m_ff = elements_quadratic.mass_matrix(n_elem, 0.03, 0.5)[np.ix_(free, free)]
+    rows, cols = np.nonzero(z.T @ m_ff @ z)
+    assert np.max(np.abs(rows - cols)) <= 2

@@ -1,12 +1,12 @@
-"""c1 continuity of quadratic elements by Lagrange multipliers (Eq. 8.39-8.45), and the
-constrained solve operators for the free nodes.
+"""c1 continuity of quadratic elements by Lagrange multipliers (Eq. 8.39-8.45): the
+constrained solve operators for the free nodes, and a banded basis of the constrained
+space with which the kernels solve the same system in O(N).
 """
 
 from __future__ import annotations
 
 import numpy as np
 import scipy.linalg
-import scipy.linalg.lapack
 
 
 def c1_matrix(n_elem: int) -> np.ndarray:
@@ -58,7 +58,11 @@ def banded_cholesky(m: np.ndarray, bandwidth: int) -> np.ndarray:
     """Lower Cholesky factor of a banded SPD matrix in band storage.
 
     out[i, k] = L[i, i - k] for k >= 1 and out[i, 0] = 1 / L[i, i] (the kernels multiply).
+    The kernels' banded solve handles bandwidths up to 2.
     """
+    if bandwidth > 2:
+        msg = f'banded solve supports bandwidth <= 2, got {bandwidth}'
+        raise ValueError(msg)
     low = np.linalg.cholesky(m)
     n = m.shape[0]
     out = np.zeros((n, bandwidth + 1))
@@ -68,32 +72,40 @@ def banded_cholesky(m: np.ndarray, bandwidth: int) -> np.ndarray:
     return out
 
 
-def banded_kkt(m_ff: np.ndarray, c_f: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, int, int]:
-    """Banded LU of the multiplier system [M_ff C_f^T; C_f 0] of Eq. 8.44 (factorised once).
+def c1_basis(n_elem: int, free: np.ndarray, kinematic: np.ndarray) -> np.ndarray:
+    """Banded basis Z of the free-node vectors satisfying the c1 rows (Eq. 8.41) with the
+    kinematic nodes held at zero: C_f Z = 0, Z of full column rank nf - (N - 1).
 
-    Each multiplier is placed right after the middle of the nodes its c1 row couples, so
-    the matrix stays banded (a few sub- and superdiagonals for any N) and one solve costs
-    O(N) instead of the O(N^2) of a dense Schur complement. LAPACK gbtrf with partial
-    pivoting (the diagonal of the multiplier block is zero).
-
-    Returns (lu, piv, row, kl, ku): lu[j] = column j of gbtrf's band storage, piv the
-    0-based row swaps, row[i] the row of free node i in the interleaved ordering.
+    The nodes of a c1 quadratic-element string are those of a uniform quadratic B-spline
+    with N + 2 control points q: end node (q_k + q_k+1) / 2, midpoint
+    (q_k + 6 q_k+1 + q_k+2) / 8. A kinematic end node at zero ties its two control points
+    (q_0 = -q_1, q_N+1 = -q_N). Each node depends on at most 3 control points, so
+    Z^T M_ff Z is banded and P = Z (Z^T M_ff Z)^-1 Z^T, the constrained inverse mass of
+    Eq. 8.44, is applied in O(N) without multipliers.
     """
-    nf, nc = m_ff.shape[0], c_f.shape[0]
-    key = np.concatenate([np.arange(nf, dtype=float),
-                          [np.mean(np.nonzero(c_f[j])[0]) + 0.5 for j in range(nc)]])
-    order = np.argsort(key, kind='stable')
-    kkt = np.block([[m_ff, c_f.T], [c_f, np.zeros((nc, nc))]])[np.ix_(order, order)]
-    rows, cols = np.nonzero(kkt)
-    kl, ku = int(np.max(rows - cols)), int(np.max(cols - rows))
-    n = nf + nc
-    ab = np.zeros((2 * kl + ku + 1, n))
-    for i, j in zip(rows, cols):
-        ab[kl + ku + i - j, j] = kkt[i, j]
-    lu, piv, info = scipy.linalg.lapack.dgbtrf(ab, kl, ku)
-    if info != 0:
-        msg = f'c1 multiplier system is singular (gbtrf info {info})'
-        raise ValueError(msg)
-    row = np.empty(nf, np.int64)
-    row[order[order < nf]] = np.nonzero(order < nf)[0]
-    return np.ascontiguousarray(lu.T), piv.astype(np.int64), row, kl, ku
+    n = n_elem
+    b = np.zeros((2 * n + 1, n + 2))
+    for k in range(n):
+        b[2 * k, k:k + 2] = 0.5
+        b[2 * k + 1, k:k + 3] = [0.125, 0.75, 0.125]
+    b[2 * n, n:n + 2] = 0.5
+    far_kinematic = 2 * n in set(kinematic.tolist())
+    keep = list(range(1, n + 1)) + ([] if far_kinematic else [n + 1])
+    t = np.zeros((n + 2, len(keep)))
+    t[keep, np.arange(len(keep))] = 1.0
+    t[0] = -t[1]
+    if far_kinematic:
+        t[n + 1] = -t[n]
+    return b[free] @ t
+
+
+def sparse_rows(z: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Rows of a sparse matrix as (columns, values), padded with column 0 and value 0."""
+    width = max(int(np.max(np.count_nonzero(z, axis=1))), 1)
+    cols = np.zeros((z.shape[0], width), np.int64)
+    vals = np.zeros((z.shape[0], width))
+    for i in range(z.shape[0]):
+        nz = np.nonzero(z[i])[0]
+        cols[i, :nz.size] = nz
+        vals[i, :nz.size] = z[i, nz]
+    return cols, vals

@@ -6,23 +6,24 @@ whenever any of it changes. The model is passed as a tuple ``mdl`` built by
 
     (ip, fp, L_band, G, gload, kin_idx, kin_pos, kin_vel, kin_acc, Pi, Pi_inv, rho_c,
      X, V, F, A_kin, vec_scratch (9, 3), mat_scratch (3, 3, 3),
-     kkt_lu, kkt_piv, kkt_row, P_last, work (n_f, 3), work (n_kkt, 3))
+     Z_cols, Z_vals, ZT_cols, ZT_vals, K_band, P_last, work (n_f, 3), work (n_q, 3))
 
 L_band is the banded Cholesky factor of the free-node mass matrix (linear elements);
-kkt_lu / kkt_piv the banded LU factors (LAPACK gbtrf layout, transposed) of the c1
-multiplier system of Eq. 8.44 with multipliers interleaved between the nodes they couple,
-kkt_row the row of each free node in that ordering (quadratic elements; empty for
-linear); P_last the last column of the constrained inverse mass (for the end body), G the
-map from kinematic node accelerations to free node accelerations.
+Z_cols / Z_vals (ZT_cols / ZT_vals) the sparse rows of the c1 basis Z (of Z^T) (quadratic elements, Eq. 8.39-8.45
+without multipliers) and K_band the banded Cholesky factor of Z^T M_ff Z (both empty for
+linear elements); P_last the last column of the constrained inverse mass (for the end
+body), G the map from kinematic node accelerations to free node accelerations.
 
-The hot loops unpack the tuple once and pass plain arrays down (``_rhs(t, y, dy, *mdl)``):
-taking arrays out of the tuple inside every right-hand side costs reference counting
-that dominated the run time of small models.
+Speed: the steppers unpack the tuple once and pass plain arrays down; the per-step
+helpers are compiled with ``_nrt=False`` (no reference counting: they allocate nothing
+and the caller owns every array). With counting on, each call's array arguments cost an
+atomic increment and decrement, which was most of the run time of small models
+(bench/fem_tradeoff). A helper that would allocate fails to compile, so this is checked.
 
 ip (int64): element type (1 linear, 2 quadratic), n_all nodes, n_elem, first free node f0,
 one past the last free node f1, end kind (0 kinematic, 1 point mass, 2 rigid body),
 Kelvin-Voigt on, drag on, wind on, number of kinematic nodes, samples per kinematic table,
-tension-only, any prescribed (moving) end, KKT sub- and superdiagonals kl, ku.
+tension-only, any prescribed (moving) end.
 fp (float64): EA, l0, mu, g (3), end mass, Kelvin-Voigt c, air density, Cd normal,
 Cd tangential, diameter, wind U (3), wind z_ref, wind alpha, wind z_ground, table t0,
 table dt, end force (3), strain limit.
@@ -36,6 +37,9 @@ import numpy as np
 from numba import njit
 
 SQRT3_INV = 1.0 / np.sqrt(3.0)
+# d(shape)/dzeta / 2 of the quadratic element's nodes at the Gauss points -1/sqrt3, +1/sqrt3.
+QUAD_DSHAPE_A = (-SQRT3_INV - 0.5, 2.0 * SQRT3_INV, -SQRT3_INV + 0.5)
+QUAD_DSHAPE_B = (SQRT3_INV - 0.5, -2.0 * SQRT3_INV, SQRT3_INV + 0.5)
 STATUS_OK = 0
 STATUS_NONFINITE = 1
 STATUS_STRAIN = 2
@@ -43,11 +47,7 @@ STATUS_STRAIN = 2
 
 @njit(cache=True, _nrt=False)
 def _kinematic_nodes(t, ip, fp, kin_idx, kin_pos, kin_vel, kin_acc, x, v, a_k):
-    """Positions, velocities, accelerations of prescribed nodes at time t (Hermite tables).
-
-    Not inlined on purpose: it runs only with a moving end, and inlining it costs every
-    right-hand side reference-count work even when the branch is not taken.
-    """
+    """Positions, velocities, accelerations of prescribed nodes at time t (Hermite tables)."""
     n_s = ip[10]
     h = fp[19]
     s = (t - fp[18]) / h
@@ -81,8 +81,8 @@ def _kinematic_of_model(t, mdl):
 
 
 @njit(cache=True, _nrt=False)
-def _unpack(y, ip, x, v):
-    """Fill the free-node position / velocity work arrays from the state.
+def _unpack(y, ip, x, v, velocities):
+    """Fill the free-node position (and, if ``velocities``, velocity) work arrays from the state.
 
     Moving (prescribed) ends are set separately by _kinematic_nodes for the same t.
     """
@@ -91,7 +91,10 @@ def _unpack(y, ip, x, v):
     for i in range(nf):
         for c in range(3):
             x[f0 + i, c] = y[3 * i + c]
-            v[f0 + i, c] = y[3 * nf + 3 * i + c]
+    if velocities:
+        for i in range(nf):
+            for c in range(3):
+                v[f0 + i, c] = y[3 * nf + 3 * i + c]
 
 
 @njit(cache=True, inline='always')
@@ -118,6 +121,27 @@ def _tension(length, l_dot_l, ea, l0, kv_on, c_kv, tension_only):
         if t < 0.0 and tension_only:
             t = 0.0
     return t
+
+
+@njit(cache=True, inline='always')
+def _gauss_force(x, v, n0, z, ea, l0, kv_on, c_kv, tension_only):
+    """Axial force times tangent, T r' / |r'|, at Gauss point z of quadratic element n0 (Eq. D.8-D.12)."""
+    s0, s1, s2 = z - 0.5, -2.0 * z, z + 0.5
+    l_0 = 2.0 * (s0 * x[n0, 0] + s1 * x[n0 + 1, 0] + s2 * x[n0 + 2, 0])
+    l_1 = 2.0 * (s0 * x[n0, 1] + s1 * x[n0 + 1, 1] + s2 * x[n0 + 2, 1])
+    l_2 = 2.0 * (s0 * x[n0, 2] + s1 * x[n0 + 1, 2] + s2 * x[n0 + 2, 2])
+    length = np.sqrt(l_0 * l_0 + l_1 * l_1 + l_2 * l_2)
+    ldl = 0.0
+    if kv_on:
+        w0 = 2.0 * (s0 * v[n0, 0] + s1 * v[n0 + 1, 0] + s2 * v[n0 + 2, 0])
+        w1 = 2.0 * (s0 * v[n0, 1] + s1 * v[n0 + 1, 1] + s2 * v[n0 + 2, 1])
+        w2 = 2.0 * (s0 * v[n0, 2] + s1 * v[n0 + 1, 2] + s2 * v[n0 + 2, 2])
+        ldl = l_0 * w0 + l_1 * w1 + l_2 * w2
+    t = _tension(length, ldl, ea, l0, kv_on, c_kv, tension_only)
+    if t == 0.0:
+        return 0.0, 0.0, 0.0
+    q = t / length
+    return q * l_0, q * l_1, q * l_2
 
 
 @njit(cache=True, _nrt=False)
@@ -148,27 +172,14 @@ def _elastic_forces(ip, fp, x, v, f):
     else:
         for j in range(ip[2]):
             n0 = 2 * j
-            for g in range(2):
-                z = -SQRT3_INV if g == 0 else SQRT3_INV
-                s0, s1, s2 = z - 0.5, -2.0 * z, z + 0.5
-                l_0 = 2.0 * (s0 * x[n0, 0] + s1 * x[n0 + 1, 0] + s2 * x[n0 + 2, 0])
-                l_1 = 2.0 * (s0 * x[n0, 1] + s1 * x[n0 + 1, 1] + s2 * x[n0 + 2, 1])
-                l_2 = 2.0 * (s0 * x[n0, 2] + s1 * x[n0 + 1, 2] + s2 * x[n0 + 2, 2])
-                length = np.sqrt(l_0 * l_0 + l_1 * l_1 + l_2 * l_2)
-                ldl = 0.0
-                if kv_on:
-                    w0 = 2.0 * (s0 * v[n0, 0] + s1 * v[n0 + 1, 0] + s2 * v[n0 + 2, 0])
-                    w1 = 2.0 * (s0 * v[n0, 1] + s1 * v[n0 + 1, 1] + s2 * v[n0 + 2, 1])
-                    w2 = 2.0 * (s0 * v[n0, 2] + s1 * v[n0 + 1, 2] + s2 * v[n0 + 2, 2])
-                    ldl = l_0 * w0 + l_1 * w1 + l_2 * w2
-                t = _tension(length, ldl, ea, l0, kv_on, c_kv, tension_only)
-                if t != 0.0:
-                    q = t / length
-                    for k in range(3):
-                        sk = s0 if k == 0 else (s1 if k == 1 else s2)
-                        f[n0 + k, 0] -= q * l_0 * sk
-                        f[n0 + k, 1] -= q * l_1 * sk
-                        f[n0 + k, 2] -= q * l_2 * sk
+            a0, a1, a2 = _gauss_force(x, v, n0, -SQRT3_INV, ea, l0, kv_on, c_kv, tension_only)
+            b0, b1, b2 = _gauss_force(x, v, n0, SQRT3_INV, ea, l0, kv_on, c_kv, tension_only)
+            for k in range(3):
+                sa = QUAD_DSHAPE_A[k]
+                sb = QUAD_DSHAPE_B[k]
+                f[n0 + k, 0] -= a0 * sa + b0 * sb
+                f[n0 + k, 1] -= a1 * sa + b1 * sb
+                f[n0 + k, 2] -= a2 * sa + b2 * sb
 
 
 @njit(cache=True, _nrt=False)
@@ -326,95 +337,74 @@ def _end_body(y, base, ip, fp, pi_m, pi_inv, rho_c, vec, mat):
 @njit(cache=True, _nrt=False)
 def _band_solve(lb, u):
     """Solve M u_new = u in place, M = L L^T with L banded: lb[i, k] = L[i, i - k] for k > 0
-    and lb[i, 0] = 1 / L[i, i]."""
+    and lb[i, 0] = 1 / L[i, i]. Bandwidth <= 2 (all element types here): the last two
+    solved rows are carried in registers, which keeps the substitution chain short."""
     n, nb = lb.shape
+    p0 = p1 = p2 = q0 = q1 = q2 = 0.0
     for i in range(n):
-        a0, a1, a2 = u[i, 0], u[i, 1], u[i, 2]
-        for k in range(1, min(nb, i + 1)):
-            lik = lb[i, k]
-            a0 -= lik * u[i - k, 0]
-            a1 -= lik * u[i - k, 1]
-            a2 -= lik * u[i - k, 2]
+        l1 = lb[i, 1] if nb > 1 else 0.0
+        l2 = lb[i, 2] if nb > 2 else 0.0
         d = lb[i, 0]
-        u[i, 0], u[i, 1], u[i, 2] = a0 * d, a1 * d, a2 * d
+        a0 = (u[i, 0] - l1 * p0 - l2 * q0) * d
+        a1 = (u[i, 1] - l1 * p1 - l2 * q1) * d
+        a2 = (u[i, 2] - l1 * p2 - l2 * q2) * d
+        u[i, 0], u[i, 1], u[i, 2] = a0, a1, a2
+        q0, q1, q2 = p0, p1, p2
+        p0, p1, p2 = a0, a1, a2
+    p0 = p1 = p2 = q0 = q1 = q2 = 0.0
     for i in range(n - 1, -1, -1):
-        a0, a1, a2 = u[i, 0], u[i, 1], u[i, 2]
-        for k in range(1, min(nb, n - i)):
-            lik = lb[i + k, k]
-            a0 -= lik * u[i + k, 0]
-            a1 -= lik * u[i + k, 1]
-            a2 -= lik * u[i + k, 2]
+        l1 = lb[i + 1, 1] if nb > 1 and i + 1 < n else 0.0
+        l2 = lb[i + 2, 2] if nb > 2 and i + 2 < n else 0.0
         d = lb[i, 0]
-        u[i, 0], u[i, 1], u[i, 2] = a0 * d, a1 * d, a2 * d
+        a0 = (u[i, 0] - l1 * p0 - l2 * q0) * d
+        a1 = (u[i, 1] - l1 * p1 - l2 * q1) * d
+        a2 = (u[i, 2] - l1 * p2 - l2 * q2) * d
+        u[i, 0], u[i, 1], u[i, 2] = a0, a1, a2
+        q0, q1, q2 = p0, p1, p2
+        p0, p1, p2 = a0, a1, a2
 
 
 @njit(cache=True, _nrt=False)
-def _kkt_solve(ab, piv, kl, ku, b):
-    """Solve A x = b in place (3 columns) with A's banded LU from LAPACK gbtrf (as dgbtrs).
-
-    ab[j] is column j of gbtrf's band storage: U[i, j] at ab[j, kl + ku + i - j], the
-    multipliers of column j at ab[j, kl + ku + 1 ...]; piv holds 0-based row swaps.
-    O(n (kl + ku)) per solve.
-    """
-    n = b.shape[0]
-    kd = kl + ku
-    for j in range(n - 1):
-        p = piv[j]
-        if p != j:
-            for c in range(3):
-                b[j, c], b[p, c] = b[p, c], b[j, c]
-        b0, b1, b2 = b[j, 0], b[j, 1], b[j, 2]
-        for i in range(1, min(kl, n - 1 - j) + 1):
-            lij = ab[j, kd + i]
-            b[j + i, 0] -= lij * b0
-            b[j + i, 1] -= lij * b1
-            b[j + i, 2] -= lij * b2
-    for j in range(n - 1, -1, -1):
-        d = ab[j, kd]
-        b0, b1, b2 = b[j, 0] / d, b[j, 1] / d, b[j, 2] / d
-        b[j, 0], b[j, 1], b[j, 2] = b0, b1, b2
-        for i in range(max(0, j - kd), j):
-            uij = ab[j, kd + i - j]
-            b[i, 0] -= uij * b0
-            b[i, 1] -= uij * b1
-            b[i, 2] -= uij * b2
-
-
-@njit(cache=True, _nrt=False)
-def _constrained_solve(ip, f, lb, kkt_lu, kkt_piv, kkt_row, u, kw):
-    """u = P F_f: M_ff^-1 F_f by the banded Cholesky factor (no constraints), or the c1
-    multiplier system of Eq. 8.44, [M_ff C_f^T; C_f 0] [u; lambda] = [F_f; 0], by its
-    banded LU (multipliers interleaved with the nodes, so the band stays narrow): O(N).
+def _constrained_solve(ip, f, lb, z_cols, z_vals, zt_cols, zt_vals, k_band, u, q):
+    """u = P F_f (Eq. 8.44). Linear elements: M_ff^-1 F_f by the banded Cholesky factor.
+    Quadratic elements: P = Z (Z^T M_ff Z)^-1 Z^T with the banded c1 basis Z (B-spline
+    control points, :func:`constraints.c1_basis`) and the banded Cholesky factor of
+    Z^T M_ff Z: O(N), no multipliers.
     """
     f0 = ip[3]
     nf = ip[4] - f0
-    if kkt_row.size == 0:
+    if z_cols.shape[0] == 0:
         for i in range(nf):
             for c in range(3):
                 u[i, c] = f[f0 + i, c]
         _band_solve(lb, u)
         return
-    for i in range(kw.shape[0]):
-        for c in range(3):
-            kw[i, c] = 0.0
+    for j in range(q.shape[0]):
+        a0 = a1 = a2 = 0.0
+        for k in range(zt_cols.shape[1]):
+            row, val = f0 + zt_cols[j, k], zt_vals[j, k]
+            a0 += val * f[row, 0]
+            a1 += val * f[row, 1]
+            a2 += val * f[row, 2]
+        q[j, 0], q[j, 1], q[j, 2] = a0, a1, a2
+    _band_solve(k_band, q)
     for i in range(nf):
-        r = kkt_row[i]
-        for c in range(3):
-            kw[r, c] = f[f0 + i, c]
-    _kkt_solve(kkt_lu, kkt_piv, ip[13], ip[14], kw)
-    for i in range(nf):
-        r = kkt_row[i]
-        for c in range(3):
-            u[i, c] = kw[r, c]
+        a0 = a1 = a2 = 0.0
+        for k in range(z_cols.shape[1]):
+            col, val = z_cols[i, k], z_vals[i, k]
+            a0 += val * q[col, 0]
+            a1 += val * q[col, 1]
+            a2 += val * q[col, 2]
+        u[i, 0], u[i, 1], u[i, 2] = a0, a1, a2
 
 
 @njit(cache=True, _nrt=False)
 def _rhs(t, y, dy, ip, fp, lb, g_op, gload, kin_idx, kin_pos, kin_vel, kin_acc, pi_m, pi_inv, rho_c,
-         x, v, f, a_k, vec, mat, kkt_lu, kkt_piv, kkt_row, p_last, u, kw):
+         x, v, f, a_k, vec, mat, z_cols, z_vals, zt_cols, zt_vals, k_band, p_last, u, q):
     """:func:`rhs` on the unpacked model tuple."""
     f0, f1 = ip[3], ip[4]
     nf = f1 - f0
-    _unpack(y, ip, x, v)
+    _unpack(y, ip, x, v, ip[6] == 1 or ip[7] == 1)  # node velocities only for damping / drag
     for i in range(f.shape[0]):
         for c in range(3):
             f[i, c] = gload[i, c]
@@ -424,7 +414,7 @@ def _rhs(t, y, dy, ip, fp, lb, g_op, gload, kin_idx, kin_pos, kin_vel, kin_acc, 
     for i in range(3 * nf):
         dy[i] = y[3 * nf + i]
     va = 3 * nf
-    _constrained_solve(ip, f, lb, kkt_lu, kkt_piv, kkt_row, u, kw)
+    _constrained_solve(ip, f, lb, z_cols, z_vals, zt_cols, zt_vals, k_band, u, q)
     for i in range(nf):
         a0, a1, a2 = u[i, 0], u[i, 1], u[i, 2]
         for k in range(ip[9]):
@@ -492,18 +482,18 @@ def rhs(t, y, dy, mdl):
 
 @njit(cache=True, _nrt=False)
 def _max_strain(ip, fp, x):
-    """Largest strain over elements (Gauss points for quadratic) of the current X, and its element."""
-    l0 = fp[1]
+    """Largest strain over elements (Gauss points for quadratic) of the current (finite) X,
+    and its element. Compares squared stretches; one square root at the end."""
     worst, where = -1.0, 0
     for e in range(ip[2]):
         if ip[0] == 1:
             d0 = x[e + 1, 0] - x[e, 0]
             d1 = x[e + 1, 1] - x[e, 1]
             d2 = x[e + 1, 2] - x[e, 2]
-            eps = np.sqrt(d0 * d0 + d1 * d1 + d2 * d2) / l0 - 1.0
+            sq = d0 * d0 + d1 * d1 + d2 * d2
         else:
             n0 = 2 * e
-            eps = -1.0
+            sq = 0.0
             for g in range(2):
                 z = -SQRT3_INV if g == 0 else SQRT3_INV
                 s0, s1, s2 = z - 0.5, -2.0 * z, z + 0.5
@@ -511,14 +501,10 @@ def _max_strain(ip, fp, x):
                 for c in range(3):
                     lc = 2.0 * (s0 * x[n0, c] + s1 * x[n0 + 1, c] + s2 * x[n0 + 2, c])
                     acc += lc * lc
-                eg = np.sqrt(acc) / l0 - 1.0
-                if eg > eps or eg != eg:
-                    eps = eg
-        if eps != eps:
-            return eps, e
-        if eps > worst:
-            worst, where = eps, e
-    return worst, where
+                sq = max(sq, acc)
+        if sq > worst:
+            worst, where = sq, e
+    return np.sqrt(worst) / fp[1] - 1.0, where
 
 
 @njit(cache=True)
@@ -539,10 +525,10 @@ def _check(y, ip, fp, x):
     Kinematic node positions are those of the last right-hand side call, which both
     steppers make at the time of y.
     """
-    total = 0.0
+    finite = True
     for i in range(y.size):
-        total += y[i]
-    if not np.isfinite(total):
+        finite &= np.isfinite(y[i])
+    if not finite:
         return STATUS_NONFINITE, -1, np.nan
     f0 = ip[3]
     for i in range(ip[4] - f0):
@@ -562,7 +548,7 @@ def run_rk4(y0, t0, dt, n_steps, rec_every, mdl):
     Returns (t_rec, y_rec, n_rec, status, t_fail, element, strain).
     """
     (ip, fp, lb, g_op, gload, kin_idx, kin_pos, kin_vel, kin_acc, pi_m, pi_inv, rho_c,
-     x, v, f, a_k, vec, mat, kkt_lu, kkt_piv, kkt_row, p_last, u, kw) = mdl
+     x, v, f, a_k, vec, mat, z_cols, z_vals, zt_cols, zt_vals, k_band, p_last, u, q) = mdl
     n = y0.size
     n_rec_max = n_steps // rec_every + 1
     y_rec = np.empty((n_rec_max, n))
@@ -589,7 +575,7 @@ def run_rk4(y0, t0, dt, n_steps, rec_every, mdl):
             if moving:
                 _kinematic_nodes(t + c_stage[st] * dt, ip, fp, kin_idx, kin_pos, kin_vel, kin_acc, x, v, a_k)
             _rhs(t + c_stage[st] * dt, yt, dy, ip, fp, lb, g_op, gload, kin_idx, kin_pos, kin_vel, kin_acc,
-                 pi_m, pi_inv, rho_c, x, v, f, a_k, vec, mat, kkt_lu, kkt_piv, kkt_row, p_last, u, kw)
+                 pi_m, pi_inv, rho_c, x, v, f, a_k, vec, mat, z_cols, z_vals, zt_cols, zt_vals, k_band, p_last, u, q)
             for i in range(n):
                 k[st, i] = dy[i]
         for i in range(n):
@@ -626,7 +612,7 @@ def run_verlet(y0, t0, dt, n_steps, rec_every, mdl):
     the half-step velocity. Returns as :func:`run_rk4`.
     """
     (ip, fp, lb, g_op, gload, kin_idx, kin_pos, kin_vel, kin_acc, pi_m, pi_inv, rho_c,
-     x, v, f, a_k, vec, mat, kkt_lu, kkt_piv, kkt_row, p_last, u, kw) = mdl
+     x, v, f, a_k, vec, mat, z_cols, z_vals, zt_cols, zt_vals, k_band, p_last, u, q) = mdl
     nf = ip[4] - ip[3]
     n = y0.size
     base = 6 * nf
@@ -644,7 +630,7 @@ def run_verlet(y0, t0, dt, n_steps, rec_every, mdl):
         if moving:
             _kinematic_nodes(t, ip, fp, kin_idx, kin_pos, kin_vel, kin_acc, x, v, a_k)
         _rhs(t, y, dy, ip, fp, lb, g_op, gload, kin_idx, kin_pos, kin_vel, kin_acc,
-             pi_m, pi_inv, rho_c, x, v, f, a_k, vec, mat, kkt_lu, kkt_piv, kkt_row, p_last, u, kw)
+             pi_m, pi_inv, rho_c, x, v, f, a_k, vec, mat, z_cols, z_vals, zt_cols, zt_vals, k_band, p_last, u, q)
         if s > 0:
             for i in range(3 * nf):
                 y[3 * nf + i] += 0.5 * dt * dy[3 * nf + i]
@@ -678,7 +664,7 @@ def node_forces(t, y, mdl):
     """Nodal forces (gravity + elastic + drag) of state y, for tests and statics."""
     ip, fp, x, v, f = mdl[0], mdl[1], mdl[12], mdl[13], mdl[14]
     _kinematic_of_model(t, mdl)
-    _unpack(y, ip, x, v)
+    _unpack(y, ip, x, v, True)
     f[:, :] = mdl[4]
     _elastic_forces(ip, fp, x, v, f)
     if ip[7] == 1:
@@ -694,7 +680,7 @@ def unpack_all(t_rec, y_rec, mdl):
     vs = np.empty((t_rec.size, n_all, 3))
     for r in range(t_rec.size):
         _kinematic_of_model(t_rec[r], mdl)
-        _unpack(y_rec[r], mdl[0], mdl[12], mdl[13])
+        _unpack(y_rec[r], mdl[0], mdl[12], mdl[13], True)
         xs[r] = mdl[12]
         vs[r] = mdl[13]
     return xs, vs

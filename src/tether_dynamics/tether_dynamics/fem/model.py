@@ -167,14 +167,22 @@ def compile_scene(scene: Scene, t0: float = 0.0, t1: float = 0.0, sample_dt: flo
     else:
         pi_m, rho_c, omega0, rot0 = np.eye(3), np.zeros(3), np.zeros(3), np.eye(3)
     drag, wind, kv = scene.drag, scene.wind, scene.damping
-    band = constraints.banded_cholesky(m_all[np.ix_(free, free)], 1 if tet.element == 'linear' else 2)
-    if c_all.shape[0]:
-        kkt_lu, kkt_piv, kkt_row, kl, ku = constraints.banded_kkt(m_all[np.ix_(free, free)], c_all[:, free])
+    m_ff = m_all[np.ix_(free, free)]
+    if tet.element == 'quadratic':
+        z = constraints.c1_basis(tet.n_elem, free, kin_idx)
+        k_red = z.T @ m_ff @ z
+        rows, cols = np.nonzero(k_red)
+        band = np.zeros((0, 1))
+        k_band = constraints.banded_cholesky(k_red, int(np.max(rows - cols)))
+        z_cols, z_vals = constraints.sparse_rows(z)
+        zt_cols, zt_vals = constraints.sparse_rows(z.T)
     else:
-        kkt_lu, kkt_piv, kkt_row, kl, ku = np.zeros((0, 1)), np.zeros(0, np.int64), np.zeros(0, np.int64), 0, 0
+        band = constraints.banded_cholesky(m_ff, 1)
+        k_band, z_cols, z_vals = np.zeros((0, 1)), np.zeros((0, 1), np.int64), np.zeros((0, 1))
+        zt_cols, zt_vals = z_cols, z_vals
     ip = np.array([1 if tet.element == 'linear' else 2, n_all, tet.n_elem, free[0], free[-1] + 1,
                    end_kind, kv is not None, drag is not None, wind is not None, len(kin_idx), n_s,
-                   tet.tension_only, any(isinstance(e, PrescribedMotion) for e, _ in kinematic_ends), kl, ku],
+                   tet.tension_only, any(isinstance(e, PrescribedMotion) for e, _ in kinematic_ends)],
                   np.int64)
     wind_u = np.asarray(wind.velocity, float) if wind else np.zeros(3)
     fp = np.array([tet.ea, l0, tet.mu, *grav, mass, kv.coefficient if kv else 0.0,
@@ -187,8 +195,8 @@ def compile_scene(scene: Scene, t0: float = 0.0, t1: float = 0.0, sample_dt: flo
     work = (x_work, v_work, np.zeros((n_all, 3)), np.zeros((len(kin_idx), 3)),
             np.zeros((9, 3)), np.zeros((3, 3, 3)))
     mdl = (ip, fp, band, np.ascontiguousarray(g_op), gload, kin_idx, pos, vel, acc,
-           pi_m, np.ascontiguousarray(scipy.linalg.inv(pi_m)), rho_c, *work, kkt_lu, kkt_piv, kkt_row,
-           np.ascontiguousarray(p_op[:, -1]), np.zeros((free.size, 3)), np.zeros((kkt_lu.shape[0], 3)))
+           pi_m, np.ascontiguousarray(scipy.linalg.inv(pi_m)), rho_c, *work, z_cols, z_vals, zt_cols, zt_vals, k_band,
+           np.ascontiguousarray(p_op[:, -1]), np.zeros((free.size, 3)), np.zeros((k_band.shape[0], 3)))
     v_init = np.zeros((n_all, 3)) if scene.velocities is None else np.array(scene.velocities, float)
     v_init[kin_idx] = vel[:, 0]
     if c_all.shape[0]:
