@@ -149,3 +149,14 @@ def _wait_for_lines(path: Path, count: int, process, timeout: float = 90.0) -> N
         assert process.poll() is None, process.communicate()[1]
         assert time.monotonic() < deadline, f'{path} did not reach {count} lines'
         time.sleep(0.1)
+
+
+def test_existing_run_directory_is_not_overwritten(scene_file, tmp_path):
+    out = tmp_path / 'out'
+    (out / 'bag').mkdir(parents=True)
+    (out / 'bag' / 'bag_0.mcap').write_bytes(b'earlier recording')
+    path = scene_file(f'description: x\nnodes:\n{TALKER}')
+    result = tethersim('run', str(path), '--out', str(out), timeout=60)
+    assert result.returncode == 2
+    assert result.stderr.strip() == f'tethersim: error: {out}: this run directory already holds a bag; give another --out'
+    assert (out / 'bag' / 'bag_0.mcap').read_bytes() == b'earlier recording'

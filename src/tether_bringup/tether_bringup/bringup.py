@@ -26,6 +26,7 @@ from rclpy.signals import SignalHandlerOptions
 from tether_bringup.bag_info import bag_summary_lines
 from tether_bringup.bag_reader import resolve_bag
 from tether_bringup.environment import run_environment
+from tether_bringup.errors import RunDirectoryError
 from tether_bringup.errors import RunError
 from tether_bringup.processes import ChildProcess
 from tether_bringup.scene import NodeConfig
@@ -60,6 +61,8 @@ def _on_signal(signum, frame):
 def execute(nodes: list[NodeConfig], source, options: RunOptions) -> int:
     """Run ``nodes`` with ``source`` driving /clock; return the process exit status."""
     out = options.out_dir
+    if any((out / 'bag').glob('*.mcap')):
+        raise RunDirectoryError(f'{out}: this run directory already holds a bag; give another --out')
     out.mkdir(parents=True, exist_ok=True)
     env = run_environment(options.domain_id, options.discovery, str(out / 'logs' / 'ros'))
     os.environ.update({key: env[key] for key in ('ROS_DOMAIN_ID', 'ROS_AUTOMATIC_DISCOVERY_RANGE', 'ROS_LOG_DIR')})

@@ -17,3 +17,7 @@ class BagError(TethersimError):
 
 class RunError(TethersimError):
     """A run could not start or a node failed during it (exit status 1)."""
+
+
+class RunDirectoryError(TethersimError):
+    """The run directory cannot be used (it already holds a recording)."""
