@@ -87,7 +87,6 @@ def execute(nodes: list[NodeConfig], source, options: RunOptions) -> int:
         children.append(recorder)
         for config in nodes:
             if config.external:
-                (out / 'params').mkdir(parents=True, exist_ok=True)
                 _write_params(out / 'params' / f'{config.name}.yaml', config)
             else:
                 children.append(_start(out, env, config))
@@ -150,14 +149,13 @@ def _recorder_program() -> str:
 
 
 def _write_params(path: Path, config: NodeConfig) -> None:
+    path.parent.mkdir(parents=True, exist_ok=True)
     params = {'/**': {'ros__parameters': {**config.parameters, 'use_sim_time': config.name != 'recorder'}}}
     path.write_text(yaml.safe_dump(params, sort_keys=False))
 
 
 def _start(out: Path, env: dict[str, str], config: NodeConfig) -> ChildProcess:
-    params_dir = out / 'params'
-    params_dir.mkdir(parents=True, exist_ok=True)
-    params_file = params_dir / f'{config.name}.yaml'
+    params_file = out / 'params' / f'{config.name}.yaml'
     _write_params(params_file, config)
     command = config.command + ['--ros-args', '-r', f'__node:={config.name}', '--params-file', str(params_file)]
     return ChildProcess(config.name, command, out / 'logs' / f'{config.name}.log', env)

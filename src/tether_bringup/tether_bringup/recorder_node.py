@@ -50,6 +50,19 @@ def qos_record(profile) -> QosRecord:
     )
 
 
+def qos_profile(records: list[QosRecord], depth: int) -> QoSProfile:
+    """A QoS profile matching every offered one: best effort if any publisher is, transient
+    local only if all are."""
+    best_effort = any(record.reliability == 'best_effort' for record in records)
+    latched = bool(records) and all(record.durability == 'transient_local' for record in records)
+    return QoSProfile(
+        history=HistoryPolicy.KEEP_LAST,
+        depth=depth,
+        reliability=ReliabilityPolicy.BEST_EFFORT if best_effort else ReliabilityPolicy.RELIABLE,
+        durability=DurabilityPolicy.TRANSIENT_LOCAL if latched else DurabilityPolicy.VOLATILE,
+    )
+
+
 def type_hash_string(type_hash) -> str:
     """Format an rclpy TypeHash as REP-2011 ``RIHS01_<hex>`` (empty if unknown)."""
     if type_hash is None or type_hash.version != 1:
@@ -105,14 +118,7 @@ class Recorder(Node):
             self._subscriptions_by_topic[topic] = None
             return
         self.bag.add_topic(topic, type_name, qos, type_hash)
-        best_effort = any(record.reliability == 'best_effort' for record in qos)
-        latched = all(record.durability == 'transient_local' for record in qos)
-        profile = QoSProfile(
-            history=HistoryPolicy.KEEP_LAST,
-            depth=self.params['queue_depth'],
-            reliability=ReliabilityPolicy.BEST_EFFORT if best_effort else ReliabilityPolicy.RELIABLE,
-            durability=DurabilityPolicy.TRANSIENT_LOCAL if latched else DurabilityPolicy.VOLATILE,
-        )
+        profile = qos_profile(qos, self.params['queue_depth'])
         is_clock = topic == '/clock'
 
         def on_message(data: bytes) -> None:

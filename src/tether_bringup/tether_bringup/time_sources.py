@@ -7,18 +7,16 @@ Both publish ``/clock`` from the bringup process and advance one tick per :meth:
 from __future__ import annotations
 
 from rclpy.node import Node
-from rclpy.qos import DurabilityPolicy
-from rclpy.qos import HistoryPolicy
-from rclpy.qos import QoSProfile
-from rclpy.qos import ReliabilityPolicy
 from rosgraph_msgs.msg import Clock
 
 from tether_bringup.bag_reader import BagMessage
 from tether_bringup.bag_writer import QosRecord
 from tether_bringup.recorder_node import message_class
+from tether_bringup.recorder_node import qos_profile
 from tether_bringup.sim_clock import SimClock
+from tether_common.qos import STATE
 
-CLOCK_QOS = QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=10, reliability=ReliabilityPolicy.RELIABLE)
+CLOCK_QOS = STATE
 
 
 def clock_message(time_ns: int) -> Clock:
@@ -63,15 +61,6 @@ class PacedClock:
         return True
 
 
-def _profile(records: list[QosRecord]) -> QoSProfile:
-    best_effort = any(record.reliability == 'best_effort' for record in records)
-    latched = bool(records) and all(record.durability == 'transient_local' for record in records)
-    return QoSProfile(
-        history=HistoryPolicy.KEEP_LAST, depth=100,
-        reliability=ReliabilityPolicy.BEST_EFFORT if best_effort else ReliabilityPolicy.RELIABLE,
-        durability=DurabilityPolicy.TRANSIENT_LOCAL if latched else DurabilityPolicy.VOLATILE)
-
-
 class BagPlayback:
     """Republish a bag's serialized messages with /clock taken from the bag's log times.
 
@@ -98,7 +87,7 @@ class BagPlayback:
         """Create /clock and one publisher per replayed topic on the bringup's node."""
         self._clock_publisher = node.create_publisher(Clock, '/clock', CLOCK_QOS)
         for topic, (type_name, qos) in self._topics.items():
-            self._publishers[topic] = node.create_publisher(message_class(type_name), topic, _profile(qos))
+            self._publishers[topic] = node.create_publisher(message_class(type_name), topic, qos_profile(qos, depth=100))
 
     @property
     def clock_publisher(self):
