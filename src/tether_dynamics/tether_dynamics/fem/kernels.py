@@ -125,7 +125,8 @@ def _tension(length, l_dot_l, ea, l0, kv_on, c_kv, tension_only):
 
 @njit(cache=True, inline='always')
 def _gauss_force(x, v, n0, z, ea, l0, kv_on, c_kv, tension_only):
-    """Axial force times tangent, T r' / |r'|, at Gauss point z of quadratic element n0 (Eq. D.8-D.12)."""
+    """Axial force times tangent, T r' / |r'|, at Gauss point z of quadratic element n0 (Eq. D.8-D.12),
+    and l0 |r'|, the element length at this point's stretch (strain = l0 |r'| / l0 - 1)."""
     s0, s1, s2 = z - 0.5, -2.0 * z, z + 0.5
     l_0 = 2.0 * (s0 * x[n0, 0] + s1 * x[n0 + 1, 0] + s2 * x[n0 + 2, 0])
     l_1 = 2.0 * (s0 * x[n0, 1] + s1 * x[n0 + 1, 1] + s2 * x[n0 + 2, 1])
@@ -139,23 +140,30 @@ def _gauss_force(x, v, n0, z, ea, l0, kv_on, c_kv, tension_only):
         ldl = l_0 * w0 + l_1 * w1 + l_2 * w2
     t = _tension(length, ldl, ea, l0, kv_on, c_kv, tension_only)
     if t == 0.0:
-        return 0.0, 0.0, 0.0
+        return 0.0, 0.0, 0.0, length
     q = t / length
-    return q * l_0, q * l_1, q * l_2
+    return q * l_0, q * l_1, q * l_2, length
 
 
 @njit(cache=True, _nrt=False)
 def _elastic_forces(ip, fp, x, v, f):
-    """Add element forces to F: Eq. 8.8/8.10 (linear) or Eq. D.8-D.12 (quadratic)."""
+    """Add element forces to F: Eq. 8.8/8.10 (linear) or Eq. D.8-D.12 (quadratic).
+
+    Returns the largest stretched length (element, or l0 |r'| at a Gauss point) and its
+    element: the strain check of the steppers comes with the forces at no extra cost.
+    """
     ea, l0, c_kv = fp[0], fp[1], fp[7]
     kv_on = ip[6] == 1
     tension_only = ip[11] == 1
+    worst, where = -1.0, 0
     if ip[0] == 1:
         for e in range(ip[2]):
             d0 = x[e + 1, 0] - x[e, 0]
             d1 = x[e + 1, 1] - x[e, 1]
             d2 = x[e + 1, 2] - x[e, 2]
             length = np.sqrt(d0 * d0 + d1 * d1 + d2 * d2)
+            if length > worst:
+                worst, where = length, e
             ldl = 0.0
             if kv_on:
                 ldl = (d0 * (v[e + 1, 0] - v[e, 0]) + d1 * (v[e + 1, 1] - v[e, 1])
@@ -172,14 +180,17 @@ def _elastic_forces(ip, fp, x, v, f):
     else:
         for j in range(ip[2]):
             n0 = 2 * j
-            a0, a1, a2 = _gauss_force(x, v, n0, -SQRT3_INV, ea, l0, kv_on, c_kv, tension_only)
-            b0, b1, b2 = _gauss_force(x, v, n0, SQRT3_INV, ea, l0, kv_on, c_kv, tension_only)
+            a0, a1, a2, len_a = _gauss_force(x, v, n0, -SQRT3_INV, ea, l0, kv_on, c_kv, tension_only)
+            b0, b1, b2, len_b = _gauss_force(x, v, n0, SQRT3_INV, ea, l0, kv_on, c_kv, tension_only)
+            if max(len_a, len_b) > worst:
+                worst, where = max(len_a, len_b), j
             for k in range(3):
                 sa = QUAD_DSHAPE_A[k]
                 sb = QUAD_DSHAPE_B[k]
                 f[n0 + k, 0] -= a0 * sa + b0 * sb
                 f[n0 + k, 1] -= a1 * sa + b1 * sb
                 f[n0 + k, 2] -= a2 * sa + b2 * sb
+    return worst, where
 
 
 @njit(cache=True, _nrt=False)
@@ -401,14 +412,15 @@ def _constrained_solve(ip, f, lb, z_cols, z_vals, zt_cols, zt_vals, k_band, u, q
 @njit(cache=True, _nrt=False)
 def _rhs(t, y, dy, ip, fp, lb, g_op, gload, kin_idx, kin_pos, kin_vel, kin_acc, pi_m, pi_inv, rho_c,
          x, v, f, a_k, vec, mat, z_cols, z_vals, zt_cols, zt_vals, k_band, p_last, u, q):
-    """:func:`rhs` on the unpacked model tuple."""
+    """:func:`rhs` on the unpacked model tuple; returns :func:`_elastic_forces`'s largest
+    stretched length and its element."""
     f0, f1 = ip[3], ip[4]
     nf = f1 - f0
     _unpack(y, ip, x, v, ip[6] == 1 or ip[7] == 1)  # node velocities only for damping / drag
     for i in range(f.shape[0]):
         for c in range(3):
             f[i, c] = gload[i, c]
-    _elastic_forces(ip, fp, x, v, f)
+    worst, where = _elastic_forces(ip, fp, x, v, f)
     if ip[7] == 1:
         _drag_forces(ip, fp, x, v, f)
     for i in range(3 * nf):
@@ -429,7 +441,7 @@ def _rhs(t, y, dy, ip, fp, lb, g_op, gload, kin_idx, kin_pos, kin_vel, kin_acc, 
     for i in range(12):
         dy[base + i] = 0.0
     if ip[5] == 0:
-        return
+        return worst, where
     _end_body(y, base, ip, fp, pi_m, pi_inv, rho_c, vec, mat)
     # vec rows: 0 F_b, 8 torque, 5 a_n, 6 right-hand side, 7 correction; mat: 0 M_e, 1 system, 2 scratch.
     c_last = p_last[nf - 1]
@@ -449,6 +461,7 @@ def _rhs(t, y, dy, ip, fp, lb, g_op, gload, kin_idx, kin_pos, kin_vel, kin_acc, 
         dy[va + 3 * i + 2] += ci * c2
     if ip[5] == 2:
         _body_rates(y, dy, base, last, fp, pi_inv, rho_c, vec)
+    return worst, where
 
 
 @njit(cache=True, _nrt=False)
@@ -480,33 +493,6 @@ def rhs(t, y, dy, mdl):
     _rhs(t, y, dy, *mdl)
 
 
-@njit(cache=True, _nrt=False)
-def _max_strain(ip, fp, x):
-    """Largest strain over elements (Gauss points for quadratic) of the current (finite) X,
-    and its element. Compares squared stretches; one square root at the end."""
-    worst, where = -1.0, 0
-    for e in range(ip[2]):
-        if ip[0] == 1:
-            d0 = x[e + 1, 0] - x[e, 0]
-            d1 = x[e + 1, 1] - x[e, 1]
-            d2 = x[e + 1, 2] - x[e, 2]
-            sq = d0 * d0 + d1 * d1 + d2 * d2
-        else:
-            n0 = 2 * e
-            sq = 0.0
-            for g in range(2):
-                z = -SQRT3_INV if g == 0 else SQRT3_INV
-                s0, s1, s2 = z - 0.5, -2.0 * z, z + 0.5
-                acc = 0.0
-                for c in range(3):
-                    lc = 2.0 * (s0 * x[n0, c] + s1 * x[n0 + 1, c] + s2 * x[n0 + 2, c])
-                    acc += lc * lc
-                sq = max(sq, acc)
-        if sq > worst:
-            worst, where = sq, e
-    return np.sqrt(worst) / fp[1] - 1.0, where
-
-
 @njit(cache=True)
 def _renormalize(y, ip):
     """Keep the rotation block of y orthonormal: one Newton step of the polar decomposition."""
@@ -519,32 +505,26 @@ def _renormalize(y, ip):
 
 
 @njit(cache=True, _nrt=False)
-def _check(y, ip, fp, x):
-    """Return (status, element, strain) for the state y just reached by a step.
-
-    Kinematic node positions are those of the last right-hand side call, which both
-    steppers make at the time of y.
-    """
+def _check(y, fp, worst, where):
+    """Return (status, element, strain) for the state y, given the largest stretched length
+    ``worst`` and its element from the right-hand side evaluated at y."""
     finite = True
     for i in range(y.size):
         finite &= np.isfinite(y[i])
     if not finite:
         return STATUS_NONFINITE, -1, np.nan
-    f0 = ip[3]
-    for i in range(ip[4] - f0):
-        x[f0 + i, 0] = y[3 * i]
-        x[f0 + i, 1] = y[3 * i + 1]
-        x[f0 + i, 2] = y[3 * i + 2]
-    eps, e = _max_strain(ip, fp, x)
+    eps = worst / fp[1] - 1.0
     if eps > fp[23]:
-        return STATUS_STRAIN, e, eps
-    return STATUS_OK, e, eps
+        return STATUS_STRAIN, where, eps
+    return STATUS_OK, where, eps
 
 
 @njit(cache=True)
 def run_rk4(y0, t0, dt, n_steps, rec_every, mdl):
     """Classic fixed-step RK4 (the thesis's scheme, Sec. 9.1.1), checked after every step.
 
+    The first stage of each step evaluates the forces at the state the previous step
+    reached, so that is where the state is checked; one extra evaluation checks the last.
     Returns (t_rec, y_rec, n_rec, status, t_fail, element, strain).
     """
     (ip, fp, lb, g_op, gload, kin_idx, kin_pos, kin_vel, kin_acc, pi_m, pi_inv, rho_c,
@@ -562,7 +542,7 @@ def run_rk4(y0, t0, dt, n_steps, rec_every, mdl):
     y_rec[0] = y
     t_rec[0] = t0
     n_rec = 1
-    for s in range(n_steps):
+    for s in range(n_steps + 1):
         t = t0 + s * dt
         for st in range(4):
             if st == 0:
@@ -574,21 +554,27 @@ def run_rk4(y0, t0, dt, n_steps, rec_every, mdl):
                     yt[i] = y[i] + h * k[st - 1, i]
             if moving:
                 _kinematic_nodes(t + c_stage[st] * dt, ip, fp, kin_idx, kin_pos, kin_vel, kin_acc, x, v, a_k)
-            _rhs(t + c_stage[st] * dt, yt, dy, ip, fp, lb, g_op, gload, kin_idx, kin_pos, kin_vel, kin_acc,
-                 pi_m, pi_inv, rho_c, x, v, f, a_k, vec, mat, z_cols, z_vals, zt_cols, zt_vals, k_band, p_last, u, q)
+            worst, where = _rhs(t + c_stage[st] * dt, yt, dy, ip, fp, lb, g_op, gload, kin_idx, kin_pos, kin_vel,
+                                kin_acc, pi_m, pi_inv, rho_c, x, v, f, a_k, vec, mat, z_cols, z_vals, zt_cols,
+                                zt_vals, k_band, p_last, u, q)
             for i in range(n):
                 k[st, i] = dy[i]
+            if st == 0 and s > 0:
+                status, e, eps = _check(y, fp, worst, where)
+                if status != STATUS_OK:
+                    return t_rec, y_rec, n_rec, status, t, e, eps
+                if s % rec_every == 0:
+                    y_rec[n_rec] = y
+                    t_rec[n_rec] = t
+                    n_rec += 1
+            if s == n_steps:
+                break
+        if s == n_steps:
+            break
         for i in range(n):
             y[i] += dt / 6.0 * (k[0, i] + 2.0 * k[1, i] + 2.0 * k[2, i] + k[3, i])
         if ip[5] == 2:
             _renormalize(y, ip)
-        status, e, eps = _check(y, ip, fp, x)
-        if status != STATUS_OK:
-            return t_rec, y_rec, n_rec, status, t + dt, e, eps
-        if (s + 1) % rec_every == 0:
-            y_rec[n_rec] = y
-            t_rec[n_rec] = t + dt
-            n_rec += 1
     return t_rec, y_rec, n_rec, STATUS_OK, t0 + n_steps * dt, -1, 0.0
 
 
@@ -629,14 +615,15 @@ def run_verlet(y0, t0, dt, n_steps, rec_every, mdl):
         t = t0 + s * dt
         if moving:
             _kinematic_nodes(t, ip, fp, kin_idx, kin_pos, kin_vel, kin_acc, x, v, a_k)
-        _rhs(t, y, dy, ip, fp, lb, g_op, gload, kin_idx, kin_pos, kin_vel, kin_acc,
-             pi_m, pi_inv, rho_c, x, v, f, a_k, vec, mat, z_cols, z_vals, zt_cols, zt_vals, k_band, p_last, u, q)
+        worst, where = _rhs(t, y, dy, ip, fp, lb, g_op, gload, kin_idx, kin_pos, kin_vel, kin_acc,
+                            pi_m, pi_inv, rho_c, x, v, f, a_k, vec, mat, z_cols, z_vals, zt_cols, zt_vals, k_band,
+                            p_last, u, q)
         if s > 0:
             for i in range(3 * nf):
                 y[3 * nf + i] += 0.5 * dt * dy[3 * nf + i]
             for i in range(3):
                 y[base + i] += 0.5 * dt * dy[base + i]
-            status, e, eps = _check(y, ip, fp, x)
+            status, e, eps = _check(y, fp, worst, where)
             if status != STATUS_OK:
                 return t_rec, y_rec, n_rec, status, t, e, eps
             if s % rec_every == 0:
