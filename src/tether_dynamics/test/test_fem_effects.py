@@ -29,15 +29,16 @@ def test_wind_pushes_the_tether_downwind() -> None:
 def test_sheared_wind_is_zero_below_ground() -> None:
     scene = _vertical(drag=Drag(0.01), wind=Wind((5.0, 0.0, 0.0), z_ref=1.0, alpha=0.14, z_ground=0.5))
     model = compile_scene(scene)
-    forces = kernels.node_forces(0.0, model.y0, model.mdl)
+    forces = kernels.generalized_forces(0.0, model.y0, model.mdl)
     still = compile_scene(_vertical())
-    np.testing.assert_allclose(forces, kernels.node_forces(0.0, still.y0, still.mdl), atol=1e-12)
+    np.testing.assert_allclose(forces, kernels.generalized_forces(0.0, still.y0, still.mdl), atol=1e-12)
 
 
 def test_effects_off_leave_forces_unchanged() -> None:
     on = compile_scene(_vertical(drag=Drag(0.01), damping=KelvinVoigt(5.0)))
     off = compile_scene(_vertical())
-    np.testing.assert_array_equal(kernels.node_forces(0.0, on.y0, on.mdl), kernels.node_forces(0.0, off.y0, off.mdl))
+    np.testing.assert_array_equal(kernels.generalized_forces(0.0, on.y0, on.mdl),
+                                  kernels.generalized_forces(0.0, off.y0, off.mdl))
 
 
 def test_wind_needs_drag() -> None:

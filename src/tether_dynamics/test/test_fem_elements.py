@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from tether_dynamics.fem import constraints, elements_linear, elements_quadratic, kernels
-from tether_dynamics.fem.end_bodies import Pinned, PointMass
+from tether_dynamics.fem.end_bodies import Pinned, PointMass, PrescribedMotion
 from tether_dynamics.fem.model import Scene, Tether, compile_scene
 
 FAMILIES = {'linear': elements_linear, 'quadratic': elements_quadratic}
@@ -80,10 +80,10 @@ def test_compiled_forces_equal_numpy_stencil(element: str) -> None:
     if element == 'quadratic':
         x = constraints.project_c1(x, 4)
     model = compile_scene(Scene(tet, Pinned(tuple(x[0])), PointMass(0.2), x))
-    f = kernels.node_forces(0.0, model.y0, model.mdl)
+    f = kernels.generalized_forces(0.0, model.y0, model.mdl)
     fam = tet.family
-    expected = fam.internal_forces(x, 1000.0, 0.5) + fam.gravity_weights(4, 0.03, 0.5)[:, None] * [0, 0, -9.81]
-    np.testing.assert_allclose(f, expected, rtol=1e-12, atol=1e-12)
+    nodal = fam.internal_forces(x, 1000.0, 0.5) + fam.gravity_weights(4, 0.03, 0.5)[:, None] * [0, 0, -9.81]
+    np.testing.assert_allclose(f, model.basis.T @ nodal[model.free], rtol=1e-12, atol=1e-12)
 
 
 def test_c1_rows_vanish_on_a_parabola_and_not_on_a_kink() -> None:
@@ -108,12 +108,39 @@ def test_compiled_accelerations_solve_the_multiplier_system(element: str) -> Non
     m_ff = model.m_all[np.ix_(free, free)]
     c_f = model.c_all[:, free]
     kkt = np.block([[m_ff, c_f.T], [c_f, np.zeros((n_c, n_c))]])
-    forces = kernels.node_forces(0.0, model.y0, model.mdl)[free]
-    expected = np.linalg.solve(kkt, np.vstack([forces, np.zeros((n_c, 3))]))[:free.size]
-    acc = dy[3 * free.size:6 * free.size].reshape(-1, 3)
+    fam = tet.family
+    nodal = fam.internal_forces(x, 1000.0, 0.5) + fam.gravity_weights(4, 0.03, 0.5)[:, None] * [0, 0, -9.81]
+    expected = np.linalg.solve(kkt, np.vstack([nodal[free], np.zeros((n_c, 3))]))[:free.size]
+    n_q = model.basis.shape[1]
+    acc = model.basis @ dy[3 * n_q:6 * n_q].reshape(-1, 3)
     np.testing.assert_allclose(acc, expected, rtol=1e-9, atol=1e-9 * np.abs(expected).max())
     if n_c:
         assert np.max(np.abs(c_f @ acc)) < 1e-9 * np.abs(acc).max()
+
+
+@pytest.mark.parametrize('n_elem', [1, 4])
+def test_quadratic_accelerations_with_an_accelerating_end_solve_the_multiplier_system(n_elem: int) -> None:
+    """Eq. 8.44 with a kinematic node: [M_ff C_f^T; C_f 0] [a_f; lambda] = [F_f - M_fk a_k; -C_k a_k]."""
+    tet = Tether(2.0, 0.03, 1000.0, n_elem, 'quadratic')
+    x = constraints.project_c1(_wavy(tet.n_nodes, 2.0, 1.02, seed=6), n_elem)
+    a_k = np.array([1.0, -2.0, 3.0])
+    start = PrescribedMotion(lambda t: x[0] + 0.5 * np.outer(t**2, a_k), lambda t: np.outer(t, a_k),
+                             lambda t: np.outer(np.ones_like(t), a_k))
+    model = compile_scene(Scene(tet, start, Pinned(tuple(x[-1])), x), t1=0.1)
+    dy = np.empty_like(model.y0)
+    kernels.rhs(0.0, model.y0, dy, model.mdl)
+    free, kin = model.free, model.kinematic
+    n_c = model.c_all.shape[0]
+    m_ff, m_fk = model.m_all[np.ix_(free, free)], model.m_all[np.ix_(free, kin)]
+    c_f, c_k = model.c_all[:, free], model.c_all[:, kin]
+    accel_k = np.array([a_k, np.zeros(3)])
+    fam = tet.family
+    nodal = fam.internal_forces(x, 1000.0, tet.l0) + fam.gravity_weights(n_elem, 0.03, tet.l0)[:, None] * [0, 0, -9.81]
+    kkt = np.block([[m_ff, c_f.T], [c_f, np.zeros((n_c, n_c))]])
+    expected = np.linalg.solve(kkt, np.vstack([nodal[free] - m_fk @ accel_k, -c_k @ accel_k]))[:free.size]
+    n_q = model.basis.shape[1]
+    acc = model.basis @ dy[3 * n_q:6 * n_q].reshape(-1, 3) + model.particular @ accel_k
+    np.testing.assert_allclose(acc, expected, rtol=1e-9, atol=1e-9 * np.abs(expected).max())
 
 
 @pytest.mark.parametrize('n_elem', [1, 2, 7])
@@ -122,12 +149,15 @@ def test_c1_basis_spans_the_constrained_space_with_a_narrow_band(n_elem: int, fa
     n_all = 2 * n_elem + 1
     kinematic = np.array([0, n_all - 1] if far_pinned else [0])
     free = np.arange(1, n_all - 1 if far_pinned else n_all)
-    c_f = constraints.c1_matrix(n_elem)[:, free]
-    z = constraints.c1_basis(n_elem, free, kinematic)
+    c_all = constraints.c1_matrix(n_elem)
+    c_f = c_all[:, free]
+    z, h = constraints.c1_basis(n_elem, free, kinematic)
     assert z.shape == (free.size, free.size - c_f.shape[0])
+    assert h.shape == (free.size, kinematic.size)
     assert np.linalg.matrix_rank(z) == z.shape[1]
     if c_f.size:
         assert np.max(np.abs(c_f @ z)) < 1e-14
+        assert np.max(np.abs(c_f @ h + c_all[:, kinematic])) < 1e-14
     assert np.max(np.count_nonzero(z, axis=1)) <= 3
     m_ff = elements_quadratic.mass_matrix(n_elem, 0.03, 0.5)[np.ix_(free, free)]
     rows, cols = np.nonzero(z.T @ m_ff @ z)

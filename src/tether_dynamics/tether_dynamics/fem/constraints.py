@@ -1,12 +1,11 @@
-"""c1 continuity of quadratic elements by Lagrange multipliers (Eq. 8.39-8.45): the
-constrained solve operators for the free nodes, and a banded basis of the constrained
-space with which the kernels solve the same system in O(N).
+"""c1 continuity of quadratic elements (Eq. 8.39-8.45): the constraint rows, and a banded
+basis of the constrained space with which the kernels solve the multiplier system of
+Eq. 8.44 in O(N), in generalised coordinates that satisfy the constraints exactly.
 """
 
 from __future__ import annotations
 
 import numpy as np
-import scipy.linalg
 
 
 def c1_matrix(n_elem: int) -> np.ndarray:
@@ -19,23 +18,6 @@ def c1_matrix(n_elem: int) -> np.ndarray:
     for j in range(n_elem - 1):
         c[j, 2 * j:2 * j + 5] = [1.0, -4.0, 6.0, -4.0, 1.0]
     return c
-
-
-def constrained_operators(m_ff: np.ndarray, m_fk: np.ndarray, c_f: np.ndarray,
-                          c_k: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Solve the multiplier system of Eq. 8.44 once, as operators on forces.
-
-    The system  [M_ff C_f^T; C_f 0] [a_f; lambda] = [F_f - M_fk a_k; -C_k a_k]  has the
-    solution a_f = P F_f + G a_k. Returns (P, G); with no constraints P = M_ff^-1.
-    """
-    m_inv = scipy.linalg.inv(m_ff)
-    if c_f.shape[0] == 0:
-        return m_inv, -m_inv @ m_fk
-    mc = m_inv @ c_f.T
-    s_inv = scipy.linalg.inv(c_f @ mc)
-    p = m_inv - mc @ s_inv @ mc.T
-    w = mc @ s_inv
-    return p, -p @ m_fk - w @ c_k
 
 
 def project_c1(nodes: np.ndarray, n_elem: int) -> np.ndarray:
@@ -72,16 +54,11 @@ def banded_cholesky(m: np.ndarray, bandwidth: int) -> np.ndarray:
     return out
 
 
-def c1_basis(n_elem: int, free: np.ndarray, kinematic: np.ndarray) -> np.ndarray:
-    """Banded basis Z of the free-node vectors satisfying the c1 rows (Eq. 8.41) with the
-    kinematic nodes held at zero: C_f Z = 0, Z of full column rank nf - (N - 1).
+def _bspline_nodes(n_elem: int) -> np.ndarray:
+    """Node positions (2N + 1) of a uniform quadratic B-spline with N + 2 control points.
 
-    The nodes of a c1 quadratic-element string are those of a uniform quadratic B-spline
-    with N + 2 control points q: end node (q_k + q_k+1) / 2, midpoint
-    (q_k + 6 q_k+1 + q_k+2) / 8. A kinematic end node at zero ties its two control points
-    (q_0 = -q_1, q_N+1 = -q_N). Each node depends on at most 3 control points, so
-    Z^T M_ff Z is banded and P = Z (Z^T M_ff Z)^-1 Z^T, the constrained inverse mass of
-    Eq. 8.44, is applied in O(N) without multipliers.
+    End node (q_k + q_k+1) / 2, midpoint (q_k + 6 q_k+1 + q_k+2) / 8: every such string is
+    c1 (Eq. 8.41), and every c1 string is one.
     """
     n = n_elem
     b = np.zeros((2 * n + 1, n + 2))
@@ -89,14 +66,31 @@ def c1_basis(n_elem: int, free: np.ndarray, kinematic: np.ndarray) -> np.ndarray
         b[2 * k, k:k + 2] = 0.5
         b[2 * k + 1, k:k + 3] = [0.125, 0.75, 0.125]
     b[2 * n, n:n + 2] = 0.5
+    return b
+
+
+def c1_basis(n_elem: int, free: np.ndarray, kinematic: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Generalised coordinates of a c1 quadratic-element string: x_f = Z q + H x_k.
+
+    Z (free nodes x control points) is a banded basis of the free-node vectors satisfying
+    the c1 rows (Eq. 8.41) with the kinematic nodes at zero: C_f Z = 0, full column rank
+    nf - (N - 1). H (free nodes x kinematic nodes) is a particular solution,
+    C_f H = -C_k. Both come from the B-spline form of the string: a kinematic end node
+    x_k = (q_0 + q_1) / 2 ties its outer control point, q_0 = 2 x_k - q_1. Each node
+    depends on at most 3 control points, so Z^T M_ff Z is banded (bandwidth 2).
+    """
+    n = n_elem
+    b = _bspline_nodes(n)
     far_kinematic = 2 * n in set(kinematic.tolist())
     keep = list(range(1, n + 1)) + ([] if far_kinematic else [n + 1])
     t = np.zeros((n + 2, len(keep)))
     t[keep, np.arange(len(keep))] = 1.0
     t[0] = -t[1]
+    tied = {0: 0, 2 * n: n + 1}
+    h = np.column_stack([2.0 * b[free, tied[int(k)]] for k in kinematic])
     if far_kinematic:
         t[n + 1] = -t[n]
-    return b[free] @ t
+    return b[free] @ t, h
 
 
 def sparse_rows(z: np.ndarray) -> tuple[np.ndarray, np.ndarray]:

@@ -1,7 +1,8 @@
 """Quadratic 3-node string elements with 2-point Gauss quadrature (Sec. 8.4, Appendix D.3-D.4).
 
 Node 2j-1, 2j, 2j+1 of the thesis (1-based) are nodes 2j, 2j+1, 2j+2 here (0-based j).
-The compiled force kernel in :mod:`kernels` evaluates the same stencil (Eq. D.12).
+The compiled kernels (:mod:`kernels`) evaluate the same stencil on the B-spline control
+points of the c1 string (:func:`constraints.c1_basis`); the tests hold them equal.
 """
 
 from __future__ import annotations

@@ -36,9 +36,8 @@ class Trajectory:
 
 def unpack(model: Compiled, t: np.ndarray, y: np.ndarray) -> Trajectory:
     """Turn recorded state vectors into node positions / velocities (kinematic ends filled in)."""
-    nf = model.free.size
     x, v = kernels.unpack_all(np.ascontiguousarray(t), np.ascontiguousarray(y), model.mdl)
-    base = 6 * nf
+    base = 6 * model.basis.shape[1]
     return Trajectory(t.copy(), x, v, y[:, base:base + 3].copy(), y[:, base + 3:base + 12].reshape(-1, 3, 3).copy())
 
 

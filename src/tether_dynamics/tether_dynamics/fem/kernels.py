@@ -4,15 +4,20 @@ All compiled code lives in this one module so that numba's on-disk cache is inva
 whenever any of it changes. The model is passed as a tuple ``mdl`` built by
 :mod:`tether_dynamics.fem.model`:
 
-    (ip, fp, L_band, G, gload, kin_idx, kin_pos, kin_vel, kin_acc, Pi, Pi_inv, rho_c,
+    (ip, fp, K_band, G, gload, kin_idx, kin_pos, kin_vel, kin_acc, Pi, Pi_inv, rho_c,
      X, V, F, A_kin, vec_scratch (9, 3), mat_scratch (3, 3, 3),
-     Z_cols, Z_vals, ZT_cols, ZT_vals, K_band, P_last, work (n_f, 3), work (n_q, 3))
+     Z_cols, Z_vals, ZT_cols, ZT_vals, H, W_last, work (n_q, 3), spline (3, N + 2, 3), GQ)
 
-L_band is the banded Cholesky factor of the free-node mass matrix (linear elements);
-Z_cols / Z_vals (ZT_cols / ZT_vals) the sparse rows of the c1 basis Z (of Z^T) (quadratic elements, Eq. 8.39-8.45
-without multipliers) and K_band the banded Cholesky factor of Z^T M_ff Z (both empty for
-linear elements); P_last the last column of the constrained inverse mass (for the end
-body), G the map from kinematic node accelerations to free node accelerations.
+The state is in generalised coordinates q (Eq. 8.39-8.45 solved without multipliers):
+free nodes x_f = Z q + H x_k, x_k the kinematic nodes. For linear elements Z = I and
+H = 0 (Z_cols empty), so q are the free nodes; for quadratic elements q are the
+B-spline control points of :func:`constraints.c1_basis`, and the c1 constraints hold
+exactly at every step. Z_cols / Z_vals (ZT_cols / ZT_vals) are the sparse rows of Z
+(of Z^T), K_band the banded Cholesky factor of K = Z^T M_ff Z, G = -K^-1 Z^T (M_ff H + M_fk)
+the map from kinematic node accelerations to qddot, W_last = K^-1 z_last (z_last the
+last free node's row of Z; for the end body). Quadratic elements only: spline holds
+work arrays for the control points, their velocities and forces, and GQ = Z^T G_f the
+constant generalised gravity (both empty for linear elements).
 
 Speed: the steppers unpack the tuple once and pass plain arrays down; the per-step
 helpers are compiled with ``_nrt=False`` (no reference counting: they allocate nothing
@@ -23,12 +28,13 @@ atomic increment and decrement, which was most of the run time of small models
 ip (int64): element type (1 linear, 2 quadratic), n_all nodes, n_elem, first free node f0,
 one past the last free node f1, end kind (0 kinematic, 1 point mass, 2 rigid body),
 Kelvin-Voigt on, drag on, wind on, number of kinematic nodes, samples per kinematic table,
-tension-only, any prescribed (moving) end.
+tension-only, any prescribed (moving) end, number of generalised coordinates n_q.
 fp (float64): EA, l0, mu, g (3), end mass, Kelvin-Voigt c, air density, Cd normal,
 Cd tangential, diameter, wind U (3), wind z_ref, wind alpha, wind z_ground, table t0,
-table dt, end force (3), strain limit.
+table dt, end force (3), strain limit, z_last . W_last (the last free node's entry of
+the constrained inverse mass).
 
-State vector y = [r_f (3 n_f), rdot_f (3 n_f), Omega (3), R row-major (9)] (Eq. 8.18-8.19).
+State vector y = [q (3 n_q), qdot (3 n_q), Omega (3), R row-major (9)] (Eq. 8.18-8.19).
 """
 
 from __future__ import annotations
@@ -37,9 +43,8 @@ import numpy as np
 from numba import njit
 
 SQRT3_INV = 1.0 / np.sqrt(3.0)
-# d(shape)/dzeta / 2 of the quadratic element's nodes at the Gauss points -1/sqrt3, +1/sqrt3.
-QUAD_DSHAPE_A = (-SQRT3_INV - 0.5, 2.0 * SQRT3_INV, -SQRT3_INV + 0.5)
-QUAD_DSHAPE_B = (SQRT3_INV - 0.5, -2.0 * SQRT3_INV, SQRT3_INV + 0.5)
+# The 2-point Gauss points zeta = -+1/sqrt3 of a quadratic element as its B-spline parameter u = (1 + zeta) / 2.
+GAUSS_U = (0.5 - 0.5 * SQRT3_INV, 0.5 + 0.5 * SQRT3_INV)
 STATUS_OK = 0
 STATUS_NONFINITE = 1
 STATUS_STRAIN = 2
@@ -81,20 +86,42 @@ def _kinematic_of_model(t, mdl):
 
 
 @njit(cache=True, _nrt=False)
-def _unpack(y, ip, x, v, velocities):
-    """Fill the free-node position (and, if ``velocities``, velocity) work arrays from the state.
-
-    Moving (prescribed) ends are set separately by _kinematic_nodes for the same t.
-    """
-    f0, f1 = ip[3], ip[4]
-    nf = f1 - f0
-    for i in range(nf):
-        for c in range(3):
-            x[f0 + i, c] = y[3 * i + c]
-    if velocities:
+def _to_nodes(y, offset, ip, z_cols, z_vals, h_op, kin_idx, out):
+    """Free nodes of out = Z q + H out[kinematic], q = y[offset:offset + 3 n_q]."""
+    f0 = ip[3]
+    nf = ip[4] - f0
+    if ip[0] == 1:
         for i in range(nf):
             for c in range(3):
-                v[f0 + i, c] = y[3 * nf + 3 * i + c]
+                out[f0 + i, c] = y[offset + 3 * i + c]
+        return
+    for i in range(nf):
+        a0 = a1 = a2 = 0.0
+        for k in range(z_cols.shape[1]):
+            j = offset + 3 * z_cols[i, k]
+            val = z_vals[i, k]
+            a0 += val * y[j]
+            a1 += val * y[j + 1]
+            a2 += val * y[j + 2]
+        for k in range(ip[9]):
+            h = h_op[i, k]
+            n = kin_idx[k]
+            a0 += h * out[n, 0]
+            a1 += h * out[n, 1]
+            a2 += h * out[n, 2]
+        out[f0 + i, 0], out[f0 + i, 1], out[f0 + i, 2] = a0, a1, a2
+
+
+@njit(cache=True, _nrt=False)
+def _unpack(y, ip, x, v, velocities, z_cols, z_vals, h_op, kin_idx):
+    """Fill the free-node positions (and, if ``velocities``, velocities) from the state.
+
+    Kinematic nodes must already hold their values (pinned: from the model; moving:
+    _kinematic_nodes for the same t).
+    """
+    _to_nodes(y, 0, ip, z_cols, z_vals, h_op, kin_idx, x)
+    if velocities:
+        _to_nodes(y, 3 * ip[13], ip, z_cols, z_vals, h_op, kin_idx, v)
 
 
 @njit(cache=True, inline='always')
@@ -123,73 +150,116 @@ def _tension(length, l_dot_l, ea, l0, kv_on, c_kv, tension_only):
     return t
 
 
-@njit(cache=True, inline='always')
-def _gauss_force(x, v, n0, z, ea, l0, kv_on, c_kv, tension_only):
-    """Axial force times tangent, T r' / |r'|, at Gauss point z of quadratic element n0 (Eq. D.8-D.12),
-    and l0 |r'|, the element length at this point's stretch (strain = l0 |r'| / l0 - 1)."""
-    s0, s1, s2 = z - 0.5, -2.0 * z, z + 0.5
-    l_0 = 2.0 * (s0 * x[n0, 0] + s1 * x[n0 + 1, 0] + s2 * x[n0 + 2, 0])
-    l_1 = 2.0 * (s0 * x[n0, 1] + s1 * x[n0 + 1, 1] + s2 * x[n0 + 2, 1])
-    l_2 = 2.0 * (s0 * x[n0, 2] + s1 * x[n0 + 1, 2] + s2 * x[n0 + 2, 2])
-    length = np.sqrt(l_0 * l_0 + l_1 * l_1 + l_2 * l_2)
-    ldl = 0.0
-    if kv_on:
-        w0 = 2.0 * (s0 * v[n0, 0] + s1 * v[n0 + 1, 0] + s2 * v[n0 + 2, 0])
-        w1 = 2.0 * (s0 * v[n0, 1] + s1 * v[n0 + 1, 1] + s2 * v[n0 + 2, 1])
-        w2 = 2.0 * (s0 * v[n0, 2] + s1 * v[n0 + 1, 2] + s2 * v[n0 + 2, 2])
-        ldl = l_0 * w0 + l_1 * w1 + l_2 * w2
-    t = _tension(length, ldl, ea, l0, kv_on, c_kv, tension_only)
-    if t == 0.0:
-        return 0.0, 0.0, 0.0, length
-    q = t / length
-    return q * l_0, q * l_1, q * l_2, length
-
-
 @njit(cache=True, _nrt=False)
-def _elastic_forces(ip, fp, x, v, f):
-    """Add element forces to F: Eq. 8.8/8.10 (linear) or Eq. D.8-D.12 (quadratic).
+def _linear_forces(ip, fp, x, v, f):
+    """Add the linear elements' forces to F (Eq. 8.8/8.10).
 
-    Returns the largest stretched length (element, or l0 |r'| at a Gauss point) and its
-    element: the strain check of the steppers comes with the forces at no extra cost.
+    Returns the largest element length and its element: the strain check of the steppers
+    comes with the forces at no extra cost.
     """
     ea, l0, c_kv = fp[0], fp[1], fp[7]
     kv_on = ip[6] == 1
     tension_only = ip[11] == 1
     worst, where = -1.0, 0
-    if ip[0] == 1:
-        for e in range(ip[2]):
-            d0 = x[e + 1, 0] - x[e, 0]
-            d1 = x[e + 1, 1] - x[e, 1]
-            d2 = x[e + 1, 2] - x[e, 2]
-            length = np.sqrt(d0 * d0 + d1 * d1 + d2 * d2)
+    for e in range(ip[2]):
+        d0 = x[e + 1, 0] - x[e, 0]
+        d1 = x[e + 1, 1] - x[e, 1]
+        d2 = x[e + 1, 2] - x[e, 2]
+        length = np.sqrt(d0 * d0 + d1 * d1 + d2 * d2)
+        if length > worst:
+            worst, where = length, e
+        ldl = 0.0
+        if kv_on:
+            ldl = (d0 * (v[e + 1, 0] - v[e, 0]) + d1 * (v[e + 1, 1] - v[e, 1])
+                   + d2 * (v[e + 1, 2] - v[e, 2]))
+        t = _tension(length, ldl, ea, l0, kv_on, c_kv, tension_only)
+        if t != 0.0:
+            q = t / length
+            f[e, 0] += q * d0
+            f[e, 1] += q * d1
+            f[e, 2] += q * d2
+            f[e + 1, 0] -= q * d0
+            f[e + 1, 1] -= q * d1
+            f[e + 1, 2] -= q * d2
+    return worst, where
+
+
+@njit(cache=True, _nrt=False)
+def _control_points(y, offset, ip, ends, cp):
+    """All N + 2 B-spline control points of a quadratic-element string from the generalised
+    coordinates y[offset:] and the kinematic end nodes ``ends`` (x or v): a kinematic end
+    node is the mean of its two control points (:func:`constraints.c1_basis`)."""
+    nq = ip[13]
+    for i in range(nq):
+        for c in range(3):
+            cp[1 + i, c] = y[offset + 3 * i + c]
+    last = ip[2] + 1
+    far = ip[1] - 1
+    for c in range(3):
+        cp[0, c] = 2.0 * ends[0, c] - cp[1, c]
+        if ip[5] == 0:
+            cp[last, c] = 2.0 * ends[far, c] - cp[last - 1, c]
+
+
+@njit(cache=True, _nrt=False)
+def _spline_forces(ip, fp, cp, cv, qf, q):
+    """Add the quadratic elements' forces (Eq. D.8-D.12), as generalised forces, to q.
+
+    Element j is the B-spline segment of control points j, j + 1, j + 2; at parameter u
+    its slope l = 2 dr/dzeta = (1 - u) d_j + u d_j+1 with d_j = cp_j+1 - cp_j. The axial
+    force T l / |l| at each Gauss point acts on the control points through dl/dcp: the
+    same virtual work as the nodal stencil, Z^T F, without forming the nodes. Returns the
+    largest l0 |r'| over Gauss points (the element length at that stretch) and its element.
+    """
+    ea, l0, c_kv = fp[0], fp[1], fp[7]
+    kv_on = ip[6] == 1
+    tension_only = ip[11] == 1
+    worst, where = -1.0, 0
+    for i in range(qf.shape[0]):
+        for c in range(3):
+            qf[i, c] = 0.0
+    for j in range(ip[2]):
+        p0 = p1 = p2 = s0 = s1 = s2 = 0.0
+        for g in range(2):
+            u = GAUSS_U[g]
+            l_0 = (1.0 - u) * (cp[j + 1, 0] - cp[j, 0]) + u * (cp[j + 2, 0] - cp[j + 1, 0])
+            l_1 = (1.0 - u) * (cp[j + 1, 1] - cp[j, 1]) + u * (cp[j + 2, 1] - cp[j + 1, 1])
+            l_2 = (1.0 - u) * (cp[j + 1, 2] - cp[j, 2]) + u * (cp[j + 2, 2] - cp[j + 1, 2])
+            length = np.sqrt(l_0 * l_0 + l_1 * l_1 + l_2 * l_2)
             if length > worst:
-                worst, where = length, e
+                worst, where = length, j
             ldl = 0.0
             if kv_on:
-                ldl = (d0 * (v[e + 1, 0] - v[e, 0]) + d1 * (v[e + 1, 1] - v[e, 1])
-                       + d2 * (v[e + 1, 2] - v[e, 2]))
+                w0 = (1.0 - u) * (cv[j + 1, 0] - cv[j, 0]) + u * (cv[j + 2, 0] - cv[j + 1, 0])
+                w1 = (1.0 - u) * (cv[j + 1, 1] - cv[j, 1]) + u * (cv[j + 2, 1] - cv[j + 1, 1])
+                w2 = (1.0 - u) * (cv[j + 1, 2] - cv[j, 2]) + u * (cv[j + 2, 2] - cv[j + 1, 2])
+                ldl = l_0 * w0 + l_1 * w1 + l_2 * w2
             t = _tension(length, ldl, ea, l0, kv_on, c_kv, tension_only)
             if t != 0.0:
-                q = t / length
-                f[e, 0] += q * d0
-                f[e, 1] += q * d1
-                f[e, 2] += q * d2
-                f[e + 1, 0] -= q * d0
-                f[e + 1, 1] -= q * d1
-                f[e + 1, 2] -= q * d2
-    else:
-        for j in range(ip[2]):
-            n0 = 2 * j
-            a0, a1, a2, len_a = _gauss_force(x, v, n0, -SQRT3_INV, ea, l0, kv_on, c_kv, tension_only)
-            b0, b1, b2, len_b = _gauss_force(x, v, n0, SQRT3_INV, ea, l0, kv_on, c_kv, tension_only)
-            if max(len_a, len_b) > worst:
-                worst, where = max(len_a, len_b), j
-            for k in range(3):
-                sa = QUAD_DSHAPE_A[k]
-                sb = QUAD_DSHAPE_B[k]
-                f[n0 + k, 0] -= a0 * sa + b0 * sb
-                f[n0 + k, 1] -= a1 * sa + b1 * sb
-                f[n0 + k, 2] -= a2 * sa + b2 * sb
+                h = 0.5 * t / length
+                p0 += (1.0 - u) * h * l_0
+                p1 += (1.0 - u) * h * l_1
+                p2 += (1.0 - u) * h * l_2
+                s0 += u * h * l_0
+                s1 += u * h * l_1
+                s2 += u * h * l_2
+        qf[j, 0] += p0
+        qf[j, 1] += p1
+        qf[j, 2] += p2
+        qf[j + 1, 0] += s0 - p0
+        qf[j + 1, 1] += s1 - p1
+        qf[j + 1, 2] += s2 - p2
+        qf[j + 2, 0] -= s0
+        qf[j + 2, 1] -= s1
+        qf[j + 2, 2] -= s2
+    last = ip[2] + 1
+    for i in range(ip[13]):
+        for c in range(3):
+            q[i, c] += qf[1 + i, c]
+    for c in range(3):
+        q[0, c] -= qf[0, c]
+        if ip[5] == 0:
+            q[ip[13] - 1, c] -= qf[last, c]
     return worst, where
 
 
@@ -376,59 +446,93 @@ def _band_solve(lb, u):
 
 
 @njit(cache=True, _nrt=False)
-def _constrained_solve(ip, f, lb, z_cols, z_vals, zt_cols, zt_vals, k_band, u, q):
-    """u = P F_f (Eq. 8.44). Linear elements: M_ff^-1 F_f by the banded Cholesky factor.
-    Quadratic elements: P = Z (Z^T M_ff Z)^-1 Z^T with the banded c1 basis Z (B-spline
-    control points, :func:`constraints.c1_basis`) and the banded Cholesky factor of
-    Z^T M_ff Z: O(N), no multipliers.
-    """
+def _nodal_model_forces(y, ip, fp, gload, x, v, f, q):
+    """Generalised forces of linear elements (Z = I): the free nodes' gravity, elastic and
+    drag forces into q. Returns :func:`_linear_forces`'s largest length and its element."""
     f0 = ip[3]
-    nf = ip[4] - f0
-    if z_cols.shape[0] == 0:
-        for i in range(nf):
+    for i in range(q.shape[0]):
+        for c in range(3):
+            x[f0 + i, c] = y[3 * i + c]
+    if ip[6] == 1 or ip[7] == 1:
+        va = 3 * q.shape[0]
+        for i in range(q.shape[0]):
             for c in range(3):
-                u[i, c] = f[f0 + i, c]
-        _band_solve(lb, u)
-        return
-    for j in range(q.shape[0]):
-        a0 = a1 = a2 = 0.0
-        for k in range(zt_cols.shape[1]):
-            row, val = f0 + zt_cols[j, k], zt_vals[j, k]
-            a0 += val * f[row, 0]
-            a1 += val * f[row, 1]
-            a2 += val * f[row, 2]
-        q[j, 0], q[j, 1], q[j, 2] = a0, a1, a2
-    _band_solve(k_band, q)
-    for i in range(nf):
-        a0 = a1 = a2 = 0.0
-        for k in range(z_cols.shape[1]):
-            col, val = z_cols[i, k], z_vals[i, k]
-            a0 += val * q[col, 0]
-            a1 += val * q[col, 1]
-            a2 += val * q[col, 2]
-        u[i, 0], u[i, 1], u[i, 2] = a0, a1, a2
-
-
-@njit(cache=True, _nrt=False)
-def _rhs(t, y, dy, ip, fp, lb, g_op, gload, kin_idx, kin_pos, kin_vel, kin_acc, pi_m, pi_inv, rho_c,
-         x, v, f, a_k, vec, mat, z_cols, z_vals, zt_cols, zt_vals, k_band, p_last, u, q):
-    """:func:`rhs` on the unpacked model tuple; returns :func:`_elastic_forces`'s largest
-    stretched length and its element."""
-    f0, f1 = ip[3], ip[4]
-    nf = f1 - f0
-    _unpack(y, ip, x, v, ip[6] == 1 or ip[7] == 1)  # node velocities only for damping / drag
+                v[f0 + i, c] = y[va + 3 * i + c]
     for i in range(f.shape[0]):
         for c in range(3):
             f[i, c] = gload[i, c]
-    worst, where = _elastic_forces(ip, fp, x, v, f)
+    worst, where = _linear_forces(ip, fp, x, v, f)
     if ip[7] == 1:
         _drag_forces(ip, fp, x, v, f)
-    for i in range(3 * nf):
-        dy[i] = y[3 * nf + i]
-    va = 3 * nf
-    _constrained_solve(ip, f, lb, z_cols, z_vals, zt_cols, zt_vals, k_band, u, q)
-    for i in range(nf):
-        a0, a1, a2 = u[i, 0], u[i, 1], u[i, 2]
+    for i in range(q.shape[0]):
+        for c in range(3):
+            q[i, c] = f[f0 + i, c]
+    return worst, where
+
+
+@njit(cache=True, _nrt=False)
+def _spline_model_forces(y, ip, fp, kin_idx, x, v, f, z_cols, z_vals, zt_cols, zt_vals, h_op, q, spline, gq):
+    """Generalised forces Z^T F_f of quadratic elements into q: the constant gravity
+    Z^T G_f, the elastic forces on the control points (:func:`_spline_forces`), and drag
+    (if on) through the nodes. Returns the largest stretched length and its element."""
+    for i in range(q.shape[0]):
+        for c in range(3):
+            q[i, c] = gq[i, c]
+    _control_points(y, 0, ip, x, spline[0])
+    if ip[6] == 1:
+        _control_points(y, 3 * ip[13], ip, v, spline[1])
+    worst, where = _spline_forces(ip, fp, spline[0], spline[1], spline[2], q)
+    if ip[7] == 1:
+        _unpack(y, ip, x, v, True, z_cols, z_vals, h_op, kin_idx)
+        f[:, :] = 0.0
+        _drag_forces(ip, fp, x, v, f)
+        f0 = ip[3]
+        for j in range(q.shape[0]):
+            for k in range(zt_cols.shape[1]):
+                row, val = f0 + zt_cols[j, k], zt_vals[j, k]
+                for c in range(3):
+                    q[j, c] += val * f[row, c]
+    return worst, where
+
+
+@njit(cache=True, _nrt=False)
+def _last_node(dy, va, ip, z_cols, z_vals, h_op, a_k, out):
+    """Acceleration of the last free node from qddot = dy[va:] (and the kinematic a_k)."""
+    i = ip[4] - ip[3] - 1
+    if ip[0] == 1:
+        for c in range(3):
+            out[c] = dy[va + 3 * i + c]
+        return
+    for c in range(3):
+        acc = 0.0
+        for k in range(z_cols.shape[1]):
+            acc += z_vals[i, k] * dy[va + 3 * z_cols[i, k] + c]
+        for k in range(ip[9]):
+            acc += h_op[i, k] * a_k[k, c]
+        out[c] = acc
+
+
+@njit(cache=True, _nrt=False)
+def _rhs(t, y, dy, ip, fp, k_band, g_op, gload, kin_idx, kin_pos, kin_vel, kin_acc, pi_m, pi_inv, rho_c,
+         x, v, f, a_k, vec, mat, z_cols, z_vals, zt_cols, zt_vals, h_op, w_last, q, spline, gq):
+    """:func:`rhs` on the unpacked model tuple; returns the largest stretched length and
+    its element.
+
+    qddot = K^-1 Z^T F_f + G a_k (Eq. 8.44 in generalised coordinates, no multipliers,
+    O(N) by the banded Cholesky factor of K = Z^T M_ff Z), then the end body's coupling.
+    """
+    nq = ip[13]
+    if ip[0] == 1:
+        worst, where = _nodal_model_forces(y, ip, fp, gload, x, v, f, q)
+    else:
+        worst, where = _spline_model_forces(y, ip, fp, kin_idx, x, v, f, z_cols, z_vals, zt_cols, zt_vals, h_op,
+                                            q, spline, gq)
+    _band_solve(k_band, q)
+    va = 3 * nq
+    for i in range(va):
+        dy[i] = y[va + i]
+    for i in range(nq):
+        a0, a1, a2 = q[i, 0], q[i, 1], q[i, 2]
         for k in range(ip[9]):
             gik = g_op[i, k]
             a0 += gik * a_k[k, 0]
@@ -437,40 +541,41 @@ def _rhs(t, y, dy, ip, fp, lb, g_op, gload, kin_idx, kin_pos, kin_vel, kin_acc, 
         dy[va + 3 * i] = a0
         dy[va + 3 * i + 1] = a1
         dy[va + 3 * i + 2] = a2
-    base = 6 * nf
+    base = 6 * nq
     for i in range(12):
         dy[base + i] = 0.0
     if ip[5] == 0:
         return worst, where
     _end_body(y, base, ip, fp, pi_m, pi_inv, rho_c, vec, mat)
-    # vec rows: 0 F_b, 8 torque, 5 a_n, 6 right-hand side, 7 correction; mat: 0 M_e, 1 system, 2 scratch.
-    c_last = p_last[nf - 1]
-    last = va + 3 * (nf - 1)
+    # vec rows: 0 F_b, 1 a_n without the body, 8 torque, 5 a_n, 6 right-hand side, 7 correction;
+    # mat: 0 M_e, 1 system, 2 scratch.
+    _last_node(dy, va, ip, z_cols, z_vals, h_op, a_k, vec[1])
+    c_last = fp[24]
     for r in range(3):
-        vec[6, r] = dy[last + r] + c_last * vec[0, r]
+        vec[6, r] = vec[1, r] + c_last * vec[0, r]
         for c in range(3):
             mat[1, r, c] = (1.0 if r == c else 0.0) + c_last * mat[0, r, c]
     _solve3(mat[1], vec[6], vec[5], mat[2])
     for r in range(3):
         vec[7, r] = vec[0, r] - (mat[0, r, 0] * vec[5, 0] + mat[0, r, 1] * vec[5, 1] + mat[0, r, 2] * vec[5, 2])
     c0, c1, c2 = vec[7, 0], vec[7, 1], vec[7, 2]
-    for i in range(nf):
-        ci = p_last[i]
+    for i in range(nq):
+        ci = w_last[i]
         dy[va + 3 * i] += ci * c0
         dy[va + 3 * i + 1] += ci * c1
         dy[va + 3 * i + 2] += ci * c2
     if ip[5] == 2:
-        _body_rates(y, dy, base, last, fp, pi_inv, rho_c, vec)
+        _body_rates(y, dy, base, vec[5], fp, pi_inv, rho_c, vec)
     return worst, where
 
 
 @njit(cache=True, _nrt=False)
-def _body_rates(y, dy, base, last, fp, pi_inv, rho_c, vec):
-    """Omega-dot (Eq. 7.13 rotational part, with the node acceleration) and R-dot = R Omega^ (Eq. A.8)."""
+def _body_rates(y, dy, base, a_n, fp, pi_inv, rho_c, vec):
+    """Omega-dot (Eq. 7.13 rotational part, with the node acceleration a_n) and R-dot = R Omega^ (Eq. A.8)."""
     om = y[base:base + 3]
     rot = y[base + 3:base + 12].reshape((3, 3))
     tau, tmp1, tmp2 = vec[8], vec[2], vec[3]
-    _mv(rot, dy[last:last + 3], tmp1, True)
+    _mv(rot, a_n, tmp1, True)
     _cross(rho_c, tmp1, tmp2)
     for c in range(3):
         tmp2[c] = tau[c] - fp[6] * tmp2[c]
@@ -486,17 +591,16 @@ def _body_rates(y, dy, base, last, fp, pi_inv, rho_c, vec):
 
 @njit(cache=True)
 def rhs(t, y, dy, mdl):
-    """First-order ODE dy/dt (Eq. 8.18 / 8.42): nodes, end body (Eq. 7.13), rotation (Eq. A.8).
-
-    Moving ends must already be set to time t (_kinematic_nodes); the steppers do that.
-    """
+    """First-order ODE dy/dt (Eq. 8.18 / 8.42): nodes, end body (Eq. 7.13), rotation (Eq. A.8),
+    with moving ends at time t."""
+    _kinematic_of_model(t, mdl)
     _rhs(t, y, dy, *mdl)
 
 
 @njit(cache=True)
 def _renormalize(y, ip):
     """Keep the rotation block of y orthonormal: one Newton step of the polar decomposition."""
-    base = 6 * (ip[4] - ip[3]) + 3
+    base = 6 * ip[13] + 3
     rot = y[base:base + 9].reshape((3, 3)).copy()
     rot = 1.5 * rot - 0.5 * rot @ (rot.T @ rot)
     for r in range(3):
@@ -527,8 +631,8 @@ def run_rk4(y0, t0, dt, n_steps, rec_every, mdl):
     reached, so that is where the state is checked; one extra evaluation checks the last.
     Returns (t_rec, y_rec, n_rec, status, t_fail, element, strain).
     """
-    (ip, fp, lb, g_op, gload, kin_idx, kin_pos, kin_vel, kin_acc, pi_m, pi_inv, rho_c,
-     x, v, f, a_k, vec, mat, z_cols, z_vals, zt_cols, zt_vals, k_band, p_last, u, q) = mdl
+    (ip, fp, k_band, g_op, gload, kin_idx, kin_pos, kin_vel, kin_acc, pi_m, pi_inv, rho_c,
+     x, v, f, a_k, vec, mat, z_cols, z_vals, zt_cols, zt_vals, h_op, w_last, q, spline, gq) = mdl
     n = y0.size
     n_rec_max = n_steps // rec_every + 1
     y_rec = np.empty((n_rec_max, n))
@@ -554,9 +658,9 @@ def run_rk4(y0, t0, dt, n_steps, rec_every, mdl):
                     yt[i] = y[i] + h * k[st - 1, i]
             if moving:
                 _kinematic_nodes(t + c_stage[st] * dt, ip, fp, kin_idx, kin_pos, kin_vel, kin_acc, x, v, a_k)
-            worst, where = _rhs(t + c_stage[st] * dt, yt, dy, ip, fp, lb, g_op, gload, kin_idx, kin_pos, kin_vel,
-                                kin_acc, pi_m, pi_inv, rho_c, x, v, f, a_k, vec, mat, z_cols, z_vals, zt_cols,
-                                zt_vals, k_band, p_last, u, q)
+            worst, where = _rhs(t + c_stage[st] * dt, yt, dy, ip, fp, k_band, g_op, gload, kin_idx, kin_pos,
+                                kin_vel, kin_acc, pi_m, pi_inv, rho_c, x, v, f, a_k, vec, mat, z_cols, z_vals,
+                                zt_cols, zt_vals, h_op, w_last, q, spline, gq)
             for i in range(n):
                 k[st, i] = dy[i]
             if st == 0 and s > 0:
@@ -597,11 +701,11 @@ def run_verlet(y0, t0, dt, n_steps, rec_every, mdl):
     orthonormal. Velocity-dependent forces (drag, damping, gyroscopic) are evaluated with
     the half-step velocity. Returns as :func:`run_rk4`.
     """
-    (ip, fp, lb, g_op, gload, kin_idx, kin_pos, kin_vel, kin_acc, pi_m, pi_inv, rho_c,
-     x, v, f, a_k, vec, mat, z_cols, z_vals, zt_cols, zt_vals, k_band, p_last, u, q) = mdl
-    nf = ip[4] - ip[3]
+    (ip, fp, k_band, g_op, gload, kin_idx, kin_pos, kin_vel, kin_acc, pi_m, pi_inv, rho_c,
+     x, v, f, a_k, vec, mat, z_cols, z_vals, zt_cols, zt_vals, h_op, w_last, q, spline, gq) = mdl
+    nq = ip[13]
     n = y0.size
-    base = 6 * nf
+    base = 6 * nq
     n_rec_max = n_steps // rec_every + 1
     y_rec = np.empty((n_rec_max, n))
     t_rec = np.empty(n_rec_max)
@@ -615,12 +719,12 @@ def run_verlet(y0, t0, dt, n_steps, rec_every, mdl):
         t = t0 + s * dt
         if moving:
             _kinematic_nodes(t, ip, fp, kin_idx, kin_pos, kin_vel, kin_acc, x, v, a_k)
-        worst, where = _rhs(t, y, dy, ip, fp, lb, g_op, gload, kin_idx, kin_pos, kin_vel, kin_acc,
-                            pi_m, pi_inv, rho_c, x, v, f, a_k, vec, mat, z_cols, z_vals, zt_cols, zt_vals, k_band,
-                            p_last, u, q)
+        worst, where = _rhs(t, y, dy, ip, fp, k_band, g_op, gload, kin_idx, kin_pos, kin_vel, kin_acc,
+                            pi_m, pi_inv, rho_c, x, v, f, a_k, vec, mat, z_cols, z_vals, zt_cols, zt_vals, h_op,
+                            w_last, q, spline, gq)
         if s > 0:
-            for i in range(3 * nf):
-                y[3 * nf + i] += 0.5 * dt * dy[3 * nf + i]
+            for i in range(3 * nq):
+                y[3 * nq + i] += 0.5 * dt * dy[3 * nq + i]
             for i in range(3):
                 y[base + i] += 0.5 * dt * dy[base + i]
             status, e, eps = _check(y, fp, worst, where)
@@ -632,12 +736,12 @@ def run_verlet(y0, t0, dt, n_steps, rec_every, mdl):
                 n_rec += 1
         if s == n_steps:
             break
-        for i in range(3 * nf):
-            y[3 * nf + i] += 0.5 * dt * dy[3 * nf + i]
+        for i in range(3 * nq):
+            y[3 * nq + i] += 0.5 * dt * dy[3 * nq + i]
         for i in range(3):
             y[base + i] += 0.5 * dt * dy[base + i]
-        for i in range(3 * nf):
-            y[i] += dt * y[3 * nf + i]
+        for i in range(3 * nq):
+            y[i] += dt * y[3 * nq + i]
         if ip[5] == 2:
             rot = _rotation_step(y[base + 3:base + 12].reshape((3, 3)).copy(), y[base:base + 3], dt)
             for r in range(3):
@@ -647,16 +751,16 @@ def run_verlet(y0, t0, dt, n_steps, rec_every, mdl):
 
 
 @njit(cache=True)
-def node_forces(t, y, mdl):
-    """Nodal forces (gravity + elastic + drag) of state y, for tests and statics."""
-    ip, fp, x, v, f = mdl[0], mdl[1], mdl[12], mdl[13], mdl[14]
+def generalized_forces(t, y, mdl):
+    """Generalised forces Z^T F_f (gravity + elastic + drag) of state y, as the right-hand
+    side uses them; for linear elements the free nodes' forces. For tests."""
     _kinematic_of_model(t, mdl)
-    _unpack(y, ip, x, v, True)
-    f[:, :] = mdl[4]
-    _elastic_forces(ip, fp, x, v, f)
-    if ip[7] == 1:
-        _drag_forces(ip, fp, x, v, f)
-    return f.copy()
+    if mdl[0][0] == 1:
+        _nodal_model_forces(y, mdl[0], mdl[1], mdl[4], mdl[12], mdl[13], mdl[14], mdl[24])
+    else:
+        _spline_model_forces(y, mdl[0], mdl[1], mdl[5], mdl[12], mdl[13], mdl[14], mdl[18], mdl[19], mdl[20],
+                             mdl[21], mdl[22], mdl[24], mdl[25], mdl[26])
+    return mdl[24].copy()
 
 
 @njit(cache=True)
@@ -667,7 +771,7 @@ def unpack_all(t_rec, y_rec, mdl):
     vs = np.empty((t_rec.size, n_all, 3))
     for r in range(t_rec.size):
         _kinematic_of_model(t_rec[r], mdl)
-        _unpack(y_rec[r], mdl[0], mdl[12], mdl[13], True)
+        _unpack(y_rec[r], mdl[0], mdl[12], mdl[13], True, mdl[18], mdl[19], mdl[22], mdl[5])
         xs[r] = mdl[12]
         vs[r] = mdl[13]
     return xs, vs

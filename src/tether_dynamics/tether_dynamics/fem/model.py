@@ -97,7 +97,12 @@ class Scene:
 
 @dataclass
 class Compiled:
-    """A scene packed for the kernels: the model tuple, the initial state and index maps."""
+    """A scene packed for the kernels: the model tuple, the initial state and index maps.
+
+    The state is in generalised coordinates q: free nodes x_f = basis q + particular x_k
+    (x_k the kinematic nodes); for linear elements basis = I and particular = 0, for
+    quadratic ones the c1 space of :func:`constraints.c1_basis`.
+    """
 
     scene: Scene
     mdl: tuple
@@ -107,6 +112,8 @@ class Compiled:
     m_all: np.ndarray
     c_all: np.ndarray
     gravity_weights: np.ndarray
+    basis: np.ndarray
+    particular: np.ndarray
 
 
 def _kinematic_tables(ends: list, nodes: np.ndarray, t0: float, t1: float,
@@ -150,8 +157,6 @@ def compile_scene(scene: Scene, t0: float = 0.0, t1: float = 0.0, sample_dt: flo
     pos, vel, acc, n_s = _kinematic_tables(kinematic_ends, nodes, t0, max(t1, t0), sample_dt)
     m_all = fam.mass_matrix(tet.n_elem, tet.mu, l0)
     c_all = constraints.c1_matrix(tet.n_elem) if tet.element == 'quadratic' else np.zeros((0, n_all))
-    p_op, g_op = constraints.constrained_operators(
-        m_all[np.ix_(free, free)], m_all[np.ix_(free, kin_idx)], c_all[:, free], c_all[:, kin_idx])
     grav = np.asarray(scene.gravity, float)
     weights = fam.gravity_weights(tet.n_elem, tet.mu, l0)
     gload = weights[:, None] * grav[None, :]
@@ -167,47 +172,57 @@ def compile_scene(scene: Scene, t0: float = 0.0, t1: float = 0.0, sample_dt: flo
     else:
         pi_m, rho_c, omega0, rot0 = np.eye(3), np.zeros(3), np.zeros(3), np.eye(3)
     drag, wind, kv = scene.drag, scene.wind, scene.damping
-    m_ff = m_all[np.ix_(free, free)]
+    m_ff, m_fk = m_all[np.ix_(free, free)], m_all[np.ix_(free, kin_idx)]
     if tet.element == 'quadratic':
-        z = constraints.c1_basis(tet.n_elem, free, kin_idx)
-        k_red = z.T @ m_ff @ z
-        rows, cols = np.nonzero(k_red)
-        band = np.zeros((0, 1))
-        k_band = constraints.banded_cholesky(k_red, int(np.max(rows - cols)))
+        z, h = constraints.c1_basis(tet.n_elem, free, kin_idx)
         z_cols, z_vals = constraints.sparse_rows(z)
         zt_cols, zt_vals = constraints.sparse_rows(z.T)
+        spline, gq = np.zeros((3, tet.n_elem + 2, 3)), np.ascontiguousarray(z.T @ gload[free])
     else:
-        band = constraints.banded_cholesky(m_ff, 1)
-        k_band, z_cols, z_vals = np.zeros((0, 1)), np.zeros((0, 1), np.int64), np.zeros((0, 1))
+        z, h = np.eye(free.size), np.zeros((free.size, kin_idx.size))
+        z_cols, z_vals = np.zeros((0, 1), np.int64), np.zeros((0, 1))
         zt_cols, zt_vals = z_cols, z_vals
+        spline, gq = np.zeros((3, 0, 3)), np.zeros((0, 3))
+    k_red = z.T @ m_ff @ z
+    rows, cols = np.nonzero(k_red)
+    k_band = constraints.banded_cholesky(k_red, int(np.max(rows - cols)))
+    g_op = -np.linalg.solve(k_red, z.T @ (m_ff @ h + m_fk))
+    w_last = np.linalg.solve(k_red, z[-1])
     ip = np.array([1 if tet.element == 'linear' else 2, n_all, tet.n_elem, free[0], free[-1] + 1,
                    end_kind, kv is not None, drag is not None, wind is not None, len(kin_idx), n_s,
-                   tet.tension_only, any(isinstance(e, PrescribedMotion) for e, _ in kinematic_ends)],
+                   tet.tension_only, any(isinstance(e, PrescribedMotion) for e, _ in kinematic_ends), z.shape[1]],
                   np.int64)
     wind_u = np.asarray(wind.velocity, float) if wind else np.zeros(3)
     fp = np.array([tet.ea, l0, tet.mu, *grav, mass, kv.coefficient if kv else 0.0,
                    drag.air_density if drag else 0.0, drag.cd_normal if drag else 0.0,
                    drag.cd_tangential if drag else 0.0, drag.diameter if drag else 0.0,
                    *wind_u, wind.z_ref if wind else 1.0, wind.alpha if wind else 0.0,
-                   wind.z_ground if wind else 0.0, t0, sample_dt, *force, scene.strain_limit])
+                   wind.z_ground if wind else 0.0, t0, sample_dt, *force, scene.strain_limit, z[-1] @ w_last])
     x_work, v_work = np.array(nodes), np.zeros((n_all, 3))
     v_work[kin_idx] = vel[:, 0]
     work = (x_work, v_work, np.zeros((n_all, 3)), np.zeros((len(kin_idx), 3)),
             np.zeros((9, 3)), np.zeros((3, 3, 3)))
-    mdl = (ip, fp, band, np.ascontiguousarray(g_op), gload, kin_idx, pos, vel, acc,
-           pi_m, np.ascontiguousarray(scipy.linalg.inv(pi_m)), rho_c, *work, z_cols, z_vals, zt_cols, zt_vals, k_band,
-           np.ascontiguousarray(p_op[:, -1]), np.zeros((free.size, 3)), np.zeros((k_band.shape[0], 3)))
+    mdl = (ip, fp, k_band, np.ascontiguousarray(g_op), gload, kin_idx, pos, vel, acc,
+           pi_m, np.ascontiguousarray(scipy.linalg.inv(pi_m)), rho_c, *work, z_cols, z_vals, zt_cols, zt_vals,
+           np.ascontiguousarray(h), w_last, np.zeros((z.shape[1], 3)), spline, gq)
     v_init = np.zeros((n_all, 3)) if scene.velocities is None else np.array(scene.velocities, float)
-    v_init[kin_idx] = vel[:, 0]
-    if c_all.shape[0]:
-        c_f = c_all[:, free]
-        v_init[free] -= c_f.T @ np.linalg.solve(c_f @ c_f.T, c_all @ v_init)
-    y0 = np.concatenate([nodes[free].ravel(), v_init[free].ravel(), omega0, rot0.ravel()])
-    resid = c_all @ nodes
-    if resid.size and np.max(np.abs(resid)) > 1e-9 * max(1.0, tet.length):
-        msg = f'initial nodes violate the c1 constraints (residual {np.max(np.abs(resid)):.3g} m)'
+    p0, resid_x = _coordinates(z, nodes[free] - h @ nodes[kin_idx])
+    pd0, _ = _coordinates(z, v_init[free] - h @ vel[:, 0])
+    y0 = np.concatenate([p0.ravel(), pd0.ravel(), omega0, rot0.ravel()])
+    if resid_x > 1e-9 * max(1.0, tet.length):
+        msg = f'initial nodes violate the c1 constraints (off the c1 space by {resid_x:.3g} m)'
         raise FemError(msg)
-    return Compiled(scene, mdl, y0, free, kin_idx, m_all, c_all, weights)
+    return Compiled(scene, mdl, y0, free, kin_idx, m_all, c_all, weights, z, h)
+
+
+def _coordinates(z: np.ndarray, target: np.ndarray) -> tuple[np.ndarray, float]:
+    """Least-squares generalised coordinates q of free-node vectors: Z q closest to ``target``.
+
+    For velocities this is the least change that satisfies the velocity-level c1 rows;
+    returns q and the largest node distance left (0 when ``target`` is c1).
+    """
+    q = np.linalg.lstsq(z, target, rcond=None)[0]
+    return q, float(np.max(np.abs(z @ q - target), initial=0.0))
 
 
 def stable_step(tether: Tether, free_ends: int = 1) -> dict[str, float]:
