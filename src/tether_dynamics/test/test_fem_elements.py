@@ -19,6 +19,20 @@ def _wavy(n_nodes: int, length: float, stretch: float, seed: int) -> np.ndarray:
     return x + 0.01 * length * rng.standard_normal((n_nodes, 3))
 
 
+def _wavy_string(element: str, n_elem: int, seed: int) -> tuple[Tether, np.ndarray]:
+    """A 2 m string (mu 0.03, EA 1 kN) and wavy nodes stretched ~2 %, made c1 for quadratic elements."""
+    tet = Tether(2.0, 0.03, 1000.0, n_elem, element)
+    x = _wavy(tet.n_nodes, 2.0, 1.02, seed)
+    return tet, constraints.project_c1(x, n_elem) if element == 'quadratic' else x
+
+
+def _stencil_forces(tet: Tether, x: np.ndarray) -> np.ndarray:
+    """Nodal elastic forces of the numpy element stencil plus the nodal weights."""
+    fam = tet.family
+    return fam.internal_forces(x, tet.ea, tet.l0) + fam.gravity_weights(tet.n_elem, tet.mu, tet.l0)[:, None] * [
+        0.0, 0.0, -9.81]
+
+
 @pytest.mark.parametrize('element', ['linear', 'quadratic'])
 def test_mass_and_weight_add_up_to_the_string(element: str) -> None:
     fam = FAMILIES[element]
@@ -75,15 +89,10 @@ def test_forces_are_minus_energy_gradient(element: str) -> None:
 
 @pytest.mark.parametrize('element', ['linear', 'quadratic'])
 def test_compiled_forces_equal_numpy_stencil(element: str) -> None:
-    tet = Tether(2.0, 0.03, 1000.0, 4, element)
-    x = _wavy(tet.n_nodes, 2.0, 1.02, seed=4)
-    if element == 'quadratic':
-        x = constraints.project_c1(x, 4)
+    tet, x = _wavy_string(element, 4, seed=4)
     model = compile_scene(Scene(tet, Pinned(tuple(x[0])), PointMass(0.2), x))
     f = kernels.generalized_forces(0.0, model.y0, model.mdl)
-    fam = tet.family
-    nodal = fam.internal_forces(x, 1000.0, 0.5) + fam.gravity_weights(4, 0.03, 0.5)[:, None] * [0, 0, -9.81]
-    np.testing.assert_allclose(f, model.basis.T @ nodal[model.free], rtol=1e-12, atol=1e-12)
+    np.testing.assert_allclose(f, model.basis.T @ _stencil_forces(tet, x)[model.free], rtol=1e-12, atol=1e-12)
 
 
 def test_c1_rows_vanish_on_a_parabola_and_not_on_a_kink() -> None:
@@ -96,10 +105,7 @@ def test_c1_rows_vanish_on_a_parabola_and_not_on_a_kink() -> None:
 
 @pytest.mark.parametrize('element', ['linear', 'quadratic'])
 def test_compiled_accelerations_solve_the_multiplier_system(element: str) -> None:
-    tet = Tether(2.0, 0.03, 1000.0, 4, element)
-    x = _wavy(tet.n_nodes, 2.0, 1.02, seed=5)
-    if element == 'quadratic':
-        x = constraints.project_c1(x, 4)
+    tet, x = _wavy_string(element, 4, seed=5)
     model = compile_scene(Scene(tet, Pinned(tuple(x[0])), Pinned(tuple(x[-1])), x))
     dy = np.empty_like(model.y0)
     kernels.rhs(0.0, model.y0, dy, model.mdl)
@@ -108,9 +114,7 @@ def test_compiled_accelerations_solve_the_multiplier_system(element: str) -> Non
     m_ff = model.m_all[np.ix_(free, free)]
     c_f = model.c_all[:, free]
     kkt = np.block([[m_ff, c_f.T], [c_f, np.zeros((n_c, n_c))]])
-    fam = tet.family
-    nodal = fam.internal_forces(x, 1000.0, 0.5) + fam.gravity_weights(4, 0.03, 0.5)[:, None] * [0, 0, -9.81]
-    expected = np.linalg.solve(kkt, np.vstack([nodal[free], np.zeros((n_c, 3))]))[:free.size]
+    expected = np.linalg.solve(kkt, np.vstack([_stencil_forces(tet, x)[free], np.zeros((n_c, 3))]))[:free.size]
     n_q = model.basis.shape[1]
     acc = model.basis @ dy[3 * n_q:6 * n_q].reshape(-1, 3)
     np.testing.assert_allclose(acc, expected, rtol=1e-9, atol=1e-9 * np.abs(expected).max())
@@ -121,8 +125,7 @@ def test_compiled_accelerations_solve_the_multiplier_system(element: str) -> Non
 @pytest.mark.parametrize('n_elem', [1, 4])
 def test_quadratic_accelerations_with_an_accelerating_end_solve_the_multiplier_system(n_elem: int) -> None:
     """Eq. 8.44 with a kinematic node: [M_ff C_f^T; C_f 0] [a_f; lambda] = [F_f - M_fk a_k; -C_k a_k]."""
-    tet = Tether(2.0, 0.03, 1000.0, n_elem, 'quadratic')
-    x = constraints.project_c1(_wavy(tet.n_nodes, 2.0, 1.02, seed=6), n_elem)
+    tet, x = _wavy_string('quadratic', n_elem, seed=6)
     a_k = np.array([1.0, -2.0, 3.0])
     start = PrescribedMotion(lambda t: x[0] + 0.5 * np.outer(t**2, a_k), lambda t: np.outer(t, a_k),
                              lambda t: np.outer(np.ones_like(t), a_k))
@@ -134,10 +137,9 @@ def test_quadratic_accelerations_with_an_accelerating_end_solve_the_multiplier_s
     m_ff, m_fk = model.m_all[np.ix_(free, free)], model.m_all[np.ix_(free, kin)]
     c_f, c_k = model.c_all[:, free], model.c_all[:, kin]
     accel_k = np.array([a_k, np.zeros(3)])
-    fam = tet.family
-    nodal = fam.internal_forces(x, 1000.0, tet.l0) + fam.gravity_weights(n_elem, 0.03, tet.l0)[:, None] * [0, 0, -9.81]
     kkt = np.block([[m_ff, c_f.T], [c_f, np.zeros((n_c, n_c))]])
-    expected = np.linalg.solve(kkt, np.vstack([nodal[free] - m_fk @ accel_k, -c_k @ accel_k]))[:free.size]
+    rhs = np.vstack([_stencil_forces(tet, x)[free] - m_fk @ accel_k, -c_k @ accel_k])
+    expected = np.linalg.solve(kkt, rhs)[:free.size]
     n_q = model.basis.shape[1]
     acc = model.basis @ dy[3 * n_q:6 * n_q].reshape(-1, 3) + model.particular @ accel_k
     np.testing.assert_allclose(acc, expected, rtol=1e-9, atol=1e-9 * np.abs(expected).max())

@@ -623,6 +623,19 @@ def _check(y, fp, worst, where):
     return STATUS_OK, where, eps
 
 
+@njit(cache=True, _nrt=False)
+def _check_and_record(y, t, s, rec_every, fp, worst, where, y_rec, t_rec, n_rec):
+    """:func:`_check` the state y of step s at time t and, if it passed, record it every
+    ``rec_every`` steps. Returns the check's (status, element, strain) and the new n_rec."""
+    status, e, eps = _check(y, fp, worst, where)
+    if status == STATUS_OK and s % rec_every == 0:
+        for i in range(y.size):
+            y_rec[n_rec, i] = y[i]
+        t_rec[n_rec] = t
+        n_rec += 1
+    return status, e, eps, n_rec
+
+
 @njit(cache=True)
 def run_rk4(y0, t0, dt, n_steps, rec_every, mdl):
     """Classic fixed-step RK4 (the thesis's scheme, Sec. 9.1.1), checked after every step.
@@ -648,7 +661,7 @@ def run_rk4(y0, t0, dt, n_steps, rec_every, mdl):
     n_rec = 1
     for s in range(n_steps + 1):
         t = t0 + s * dt
-        for st in range(4):
+        for st in range(4 if s < n_steps else 1):
             if st == 0:
                 for i in range(n):
                     yt[i] = y[i]
@@ -664,15 +677,9 @@ def run_rk4(y0, t0, dt, n_steps, rec_every, mdl):
             for i in range(n):
                 k[st, i] = dy[i]
             if st == 0 and s > 0:
-                status, e, eps = _check(y, fp, worst, where)
+                status, e, eps, n_rec = _check_and_record(y, t, s, rec_every, fp, worst, where, y_rec, t_rec, n_rec)
                 if status != STATUS_OK:
                     return t_rec, y_rec, n_rec, status, t, e, eps
-                if s % rec_every == 0:
-                    y_rec[n_rec] = y
-                    t_rec[n_rec] = t
-                    n_rec += 1
-            if s == n_steps:
-                break
         if s == n_steps:
             break
         for i in range(n):
@@ -727,13 +734,9 @@ def run_verlet(y0, t0, dt, n_steps, rec_every, mdl):
                 y[3 * nq + i] += 0.5 * dt * dy[3 * nq + i]
             for i in range(3):
                 y[base + i] += 0.5 * dt * dy[base + i]
-            status, e, eps = _check(y, fp, worst, where)
+            status, e, eps, n_rec = _check_and_record(y, t, s, rec_every, fp, worst, where, y_rec, t_rec, n_rec)
             if status != STATUS_OK:
                 return t_rec, y_rec, n_rec, status, t, e, eps
-            if s % rec_every == 0:
-                y_rec[n_rec] = y
-                t_rec[n_rec] = t
-                n_rec += 1
         if s == n_steps:
             break
         for i in range(3 * nq):
