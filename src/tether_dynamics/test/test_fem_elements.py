@@ -7,6 +7,7 @@ import pytest
 
 from tether_dynamics.fem import constraints, elements_linear, elements_quadratic, kernels
 from tether_dynamics.fem.end_bodies import Pinned, PointMass, PrescribedMotion
+from tether_dynamics.fem.errors import FemError
 from tether_dynamics.fem.model import Scene, Tether, compile_scene
 
 FAMILIES = {'linear': elements_linear, 'quadratic': elements_quadratic}
@@ -164,3 +165,10 @@ def test_c1_basis_spans_the_constrained_space_with_a_narrow_band(n_elem: int, fa
     m_ff = elements_quadratic.mass_matrix(n_elem, 0.03, 0.5)[np.ix_(free, free)]
     rows, cols = np.nonzero(z.T @ m_ff @ z)
     assert np.max(np.abs(rows - cols)) <= 2
+
+
+def test_quadratic_scene_with_kinked_nodes_is_refused() -> None:
+    tet, x = _wavy_string('quadratic', 4, seed=7)
+    x[4, 0] += 0.05
+    with pytest.raises(FemError, match='violate the c1 constraints'):
+        compile_scene(Scene(tet, Pinned(tuple(x[0])), PointMass(0.2), x))
