@@ -86,15 +86,22 @@ def _kinematic_of_model(t, mdl):
 
 
 @njit(cache=True, _nrt=False)
+def _copy_free(y, offset, ip, out):
+    """Free nodes of out = q = y[offset:offset + 3 n_q] (linear elements: Z = I, H = 0)."""
+    f0 = ip[3]
+    for i in range(ip[4] - f0):
+        for c in range(3):
+            out[f0 + i, c] = y[offset + 3 * i + c]
+
+
+@njit(cache=True, _nrt=False)
 def _to_nodes(y, offset, ip, z_cols, z_vals, h_op, kin_idx, out):
     """Free nodes of out = Z q + H out[kinematic], q = y[offset:offset + 3 n_q]."""
+    if ip[0] == 1:
+        _copy_free(y, offset, ip, out)
+        return
     f0 = ip[3]
     nf = ip[4] - f0
-    if ip[0] == 1:
-        for i in range(nf):
-            for c in range(3):
-                out[f0 + i, c] = y[offset + 3 * i + c]
-        return
     for i in range(nf):
         a0 = a1 = a2 = 0.0
         for k in range(z_cols.shape[1]):
@@ -450,14 +457,9 @@ def _nodal_model_forces(y, ip, fp, gload, x, v, f, q):
     """Generalised forces of linear elements (Z = I): the free nodes' gravity, elastic and
     drag forces into q. Returns :func:`_linear_forces`'s largest length and its element."""
     f0 = ip[3]
-    for i in range(q.shape[0]):
-        for c in range(3):
-            x[f0 + i, c] = y[3 * i + c]
+    _copy_free(y, 0, ip, x)
     if ip[6] == 1 or ip[7] == 1:
-        va = 3 * q.shape[0]
-        for i in range(q.shape[0]):
-            for c in range(3):
-                v[f0 + i, c] = y[va + 3 * i + c]
+        _copy_free(y, 3 * ip[13], ip, v)
     for i in range(f.shape[0]):
         for c in range(3):
             f[i, c] = gload[i, c]
