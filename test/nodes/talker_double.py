@@ -4,13 +4,16 @@ Publishes a custom type (tether_msgs/RelativeEstimate, reliable), a standard sen
 (sensor_msgs/Imu, sensor-data QoS) and a latched tether_msgs/UavState. Every published
 message is also written as one JSON line to ``sent_log``, so a test can compare the bag
 with what was really published. ``crash_at`` > 0 makes the node die with status 3 at
-that sim time (a crashing node for the failure-path tests).
+that sim time (a crashing node for the failure-path tests), once the estimates it already
+published are acknowledged: a burst of late ticks must not be lost in flight, since the
+tests count what the bag kept of what was delivered before the crash.
 """
 
 import json
 import os
 import sys
 
+from rclpy.duration import Duration
 from rclpy.node import Node
 from sensor_msgs.msg import Imu
 
@@ -45,6 +48,7 @@ class TalkerDouble(Node):
     def tick(self, now):
         if self.crash_at > 0 and now.nanoseconds >= self.crash_at * 1e9:
             print('talker_double: crashing on purpose', flush=True)
+            self.estimate_pub.wait_for_all_acked(Duration(seconds=5))
             os._exit(3)
         self.count += 1
         estimate = RelativeEstimate()

@@ -3,9 +3,10 @@
 The recorder discovers topics by polling the ROS graph, subscribes to each with the QoS
 its publishers offer (best effort if any publisher is best effort, transient local if all
 are) and ``raw=True``, and writes the CDR bytes untouched. Log and publish times are sim
-time: the latest ``/clock`` received. Once every expected node is in the graph and the graph
+time: the latest ``/clock`` received. Once every expected node is in the graph, the graph
 (nodes, topics, and the publisher and subscription count of each topic) has not changed for
-``settle_time``, it writes ``ready_file`` so that the bringup can start the clock: nothing
+``settle_time`` and every recorded subscription has matched all the topic's publishers, it
+writes ``ready_file`` so that the bringup can start the clock: nothing
 published on a sim-time timer is missed.
 """
 
@@ -106,9 +107,14 @@ class Recorder(Node):
                 self._graph_signature = signature
                 self._last_change = time.monotonic()
             settled = time.monotonic() - self._last_change >= self.params['settle_time']
-            if self._expected <= present and settled:
+            if self._expected <= present and settled and self._matched_every_publisher():
                 self._ready = True
                 Path(self.params['ready_file']).write_text('\n'.join(sorted(self._subscriptions_by_topic)) + '\n')
+
+    def _matched_every_publisher(self) -> bool:
+        """True once each recorded topic's subscription has matched every publisher in the graph."""
+        return all(subscription.get_publisher_count() >= self.count_publishers(topic)
+                   for topic, subscription in self._subscriptions_by_topic.items() if subscription is not None)
 
     def _subscribe(self, topic: str, type_name: str, qos: list[QosRecord], type_hash: str) -> None:
         try:
