@@ -17,6 +17,7 @@ ANALYSIS_GROUPS = {
     'catenary': ('tether_dynamics.catenary_cli', 'catenary statics, heave robustness, flying space (thesis Ch. 3)'),
     'fem': ('tether_dynamics.fem_cli', 'finite-element tether dynamics, the Chapter 9 pendulum'),
     'psr': ('psr_platform_sim.cli', '3-PSR wave replicator: workspace and design optimization (Ch. 2)'),
+    'reel': ('smart_reel.cli', 'smart reel: catenary-controller gain tuning (Sec. 4.2)'),
 }
 
 

@@ -1,0 +1,26 @@
+from setuptools import find_packages, setup
+
+package_name = 'smart_reel'
+
+setup(
+    name=package_name,
+    version='0.1.0',
+    packages=find_packages(exclude=['test']),
+    data_files=[
+        ('share/ament_index/resource_index/packages', ['resource/' + package_name]),
+        ('share/' + package_name, ['package.xml']),
+    ],
+    install_requires=['setuptools'],
+    zip_safe=True,
+    maintainer='tethersim',
+    maintainer_email='tethersim@example.org',
+    description='Smart reel: motor and winch, encoder, guide arm, catenary-model and taut controllers, '
+                'safety, the reel node and the UAV-surrogate report.',
+    license='Apache-2.0',
+    extras_require={'test': ['pytest']},
+    entry_points={
+        'console_scripts': [
+            'reel = smart_reel.reel_node:main',
+        ],
+    },
+)

@@ -1,0 +1,132 @@
+"""Length controllers of the smart reel (thesis Sec. 4.2, 4.3, 5.1).
+
+Catenary-model controller (Fig. 4.2). Every 20 ms (50 Hz):
+
+1. the reference length ``L_ref`` from the relative position, Δz every tick and the
+   radial distance Δr as last sampled at 4 Hz (:class:`SampleHold`), through the project's
+   one reference-length model (:func:`tether_dynamics.reference_length.reference_length`,
+   Eq. 4.4/4.5 with its blend and safeguards, or the exact heave-robust length);
+2. the gain-scheduled low-pass filter of Eq. 4.1 (:mod:`smart_reel.scheduler`);
+3. the error ``e_k = L_k - L^LP_ref,k`` of the encoder's length against it;
+4. a discrete PD on the motor voltage (:class:`DiscretePid` with ``ki = 0``, the thesis's
+   controller): ``u_k = -(K_p e_k + K_d (e_k - e_{k-1})/T_s)``, positive paying out,
+   clipped to the voltage limit. An optional integral term (``ki``) is frozen while the
+   output saturates in the direction the error would drive it (conditional-integration
+   anti-windup); the drive's current limit acts inside the motor model.
+
+The gains are not guessed: ``tethersim reel tune`` (:mod:`smart_reel.tuning`) finds them.
+
+Taut controller (Sec. 5.1, 6.1.4): a constant reel-in torque on the spool through the
+drive's current loop, above the drivetrain's static friction so the spool keeps moving.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+from smart_reel.scheduler import LowPass
+from smart_reel.scheduler import SchmittScheduler
+from tether_dynamics.reference_length import reference_length
+
+
+class SampleHold:
+    """Holds a signal sampled on a fixed time grid (e.g. the 4 Hz radial distance)."""
+
+    def __init__(self, period: float) -> None:
+        self.period = period
+        self.value: float | None = None
+        self._next = 0.0
+
+    def update(self, t: float, value: float) -> float:
+        """Take ``value`` if ``t`` reached the next grid instant; return the held value."""
+        if self.value is None or t >= self._next - 1e-9:
+            self.value = value
+            self._next = (math.floor(t / self.period + 1e-9) + 1) * self.period
+        return self.value
+
+
+@dataclass
+class PidOutput:
+    """One controller output (V) and its parts."""
+
+    output: float
+    p_term: float
+    i_term: float
+    d_term: float
+    saturated: bool
+
+
+class DiscretePid:
+    """``u = -(kp e + ki Σ e T + kd Δe/T)`` clipped to ``±limit``, conditional-integration anti-windup."""
+
+    def __init__(self, kp: float, kd: float, ki: float, period: float, limit: float) -> None:
+        if min(kp, kd, ki) < 0.0 or period <= 0.0 or limit <= 0.0:
+            raise ValueError(f'PID needs kp, kd, ki >= 0, period > 0, limit > 0 (got {kp}, {kd}, {ki}, '
+                             f'{period}, {limit})')
+        self.kp, self.kd, self.ki = kp, kd, ki
+        self.period = period
+        self.limit = limit
+        self.integral = 0.0
+        self._previous: float | None = None
+
+    def step(self, error: float) -> PidOutput:
+        """One controller period with the error ``error``."""
+        previous = error if self._previous is None else self._previous
+        self._previous = error
+        p = -self.kp * error
+        d = -self.kd * (error - previous) / self.period
+        i_candidate = self.integral - self.ki * error * self.period
+        raw = p + d + i_candidate
+        saturated = abs(raw) > self.limit
+        if not saturated or raw * (i_candidate - self.integral) < 0.0:
+            self.integral = i_candidate
+        u = p + d + self.integral
+        u = min(max(u, -self.limit), self.limit)
+        return PidOutput(u, p, self.integral, d, saturated)
+
+
+@dataclass
+class CatenaryOutput:
+    """The catenary controller's command and internals for one tick."""
+
+    voltage: float
+    reference_length: float
+    reference_model: str
+    filtered_reference: float
+    length_error: float
+    alpha: float
+    slow: bool
+    pid: PidOutput
+
+
+class CatenaryController:
+    """Sec. 4.2: reference length, scheduled low-pass filter, PD on motor voltage."""
+
+    def __init__(self, kp: float, kd: float, ki: float, period: float, voltage_limit: float,
+                 reference_mode: str = 'poly', scheduler: SchmittScheduler | None = None) -> None:
+        if reference_mode not in ('poly', 'exact'):
+            raise ValueError(f"reference mode must be 'poly' or 'exact', got {reference_mode!r}")
+        self.reference_mode = reference_mode
+        self.scheduler = scheduler or SchmittScheduler()
+        self.filter = LowPass()
+        self.pid = DiscretePid(kp, kd, ki, period, voltage_limit)
+
+    def step(self, dr: float, dz: float, dz_rate: float, length: float) -> CatenaryOutput:
+        """One 50 Hz tick: relative position (m), vertical velocity (m/s), measured length (m)."""
+        ref = reference_length(dr, dz, self.reference_mode)
+        alpha = self.scheduler.update(dz_rate)
+        filtered = self.filter.update(ref.length, alpha)  # Eq. 4.1
+        error = length - filtered
+        pid = self.pid.step(error)
+        return CatenaryOutput(pid.output, ref.length, ref.model, filtered, error, alpha, self.scheduler.slow, pid)
+
+
+class TautController:
+    """Constant reel-in spool torque (N m) through the drive's current loop (Sec. 5.1)."""
+
+    def __init__(self, torque: float, shaft_constant: float) -> None:
+        if torque <= 0.0:
+            raise ValueError(f'taut torque must be positive, got {torque}')
+        self.torque = torque
+        self.current = -torque / shaft_constant

@@ -1,0 +1,186 @@
+"""The smart reel as one stepping object: ``ReelCore.step(t, inputs) -> ReelOutputs``.
+
+Used unchanged by the reel node, the tuning procedure, the tests and replay. Each call
+integrates the winch over ``[t, t + step]`` with the inputs the caller selected for tick
+``t`` (the tether state and relative position stamped at or before ``t - input_delay``),
+runs the controller on its own grid (50 Hz by default; the command is held in between)
+and returns the command for the plant: the payout over the step it just integrated, to
+be applied by the plant over the same interval. The loop reel → plant → reel therefore
+carries ``input_delay`` (one plant step by default) plus the plant's own step: the
+tension acting on the drum over ``[t, t + step]`` is the plant's tension at
+``t - input_delay``.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+from smart_reel.controller import CatenaryController
+from smart_reel.controller import CatenaryOutput
+from smart_reel.controller import SampleHold
+from smart_reel.controller import TautController
+from smart_reel.motor import MotorParameters
+from smart_reel.safety import SafetyLimits
+from smart_reel.safety import SafetyMonitor
+from smart_reel.scheduler import SchmittScheduler
+from smart_reel.sensors import GuideArm
+from smart_reel.sensors import tension_from_current
+from smart_reel.spool import Encoder
+from smart_reel.spool import SpoolGeometry
+from smart_reel.winch import BRAKE
+from smart_reel.winch import CURRENT
+from smart_reel.winch import VOLTAGE
+from smart_reel.winch import Friction
+from smart_reel.winch import Winch
+
+CONTROLLERS = ('catenary', 'taut', 'locked')
+
+
+@dataclass
+class ReelInputs:
+    """Inputs of one tick; ``None`` where nothing has arrived yet."""
+
+    dr: float | None = None
+    """m, relative radial distance UAV - guide way."""
+    dz: float | None = None
+    """m, relative height UAV - guide way."""
+    dz_rate: float | None = None
+    """m/s, relative vertical velocity."""
+    tension: float | None = None
+    """N, tether tension at the guide way."""
+    departure_angle: float | None = None
+    """rad, true departure angle above horizontal."""
+    clearance: float = math.inf
+    """m, lowest point above the deck or the water, whichever is closer."""
+
+
+@dataclass
+class ReelOutputs:
+    """Command, measured state and controller internals after one step."""
+
+    mode: str
+    drive: str
+    drive_command: float
+    voltage: float
+    current: float
+    shaft_torque: float
+    spool_angle: float
+    spool_rate: float
+    mean_spool_rate: float
+    payout_rate: float
+    deployed_length: float
+    measured_length: float
+    radius: float
+    tension_estimate: float
+    arm_angle: float
+    current_limited: bool
+    trip: str
+    trips: int
+    control: CatenaryOutput | None
+    control_tick: bool
+
+
+def build_core(params: dict, initial_length: float) -> ReelCore:
+    """A :class:`ReelCore` from the reel node's parameter values (:mod:`smart_reel.reel_params`)."""
+    motor = MotorParameters(params['motor_resistance'], params['motor_inductance'], params['motor_torque_constant'],
+                            params['motor_rotor_inertia'], params['motor_current_limit'], params['supply_voltage'],
+                            params['gear_ratio'])
+    spool = SpoolGeometry(params['core_radius'], params['drum_width'], params['tether_diameter'],
+                          params['tether_capacity'], params['linear_density'])
+    friction = Friction(params['friction_viscous'], params['friction_coulomb'], params['friction_static'])
+    winch = Winch(motor, spool, friction, params['drum_inertia'], initial_length)
+    limits = SafetyLimits(params['min_clearance'], math.radians(params['min_departure_angle']),
+                          params['max_tension'])
+    return ReelCore(params['controller'], winch, Encoder(params['encoder_counts'], params['gear_ratio']),
+                    GuideArm(math.radians(params['arm_deadband']), params['arm_encoder_bits']), limits,
+                    step=params['step'], control_period=1.0 / params['control_rate'],
+                    radial_period=1.0 / params['radial_rate'], kp=params['kp'], kd=params['kd'], ki=params['ki'],
+                    voltage_limit=min(params['voltage_limit'], params['supply_voltage']),
+                    reference_mode=params['reference_mode'],
+                    scheduler=SchmittScheduler(params['schedule_upper'], params['schedule_lower'],
+                                               params['alpha_slow']),
+                    taut_torque=params['taut_torque'])
+
+
+class ReelCore:
+    """Winch, sensors, controller and safety of the smart reel, stepped with explicit time."""
+
+    def __init__(self, controller: str, winch: Winch, encoder: Encoder, arm: GuideArm, limits: SafetyLimits, *,
+                 step: float, control_period: float, radial_period: float, kp: float, kd: float, ki: float,
+                 voltage_limit: float, reference_mode: str, scheduler: SchmittScheduler,
+                 taut_torque: float) -> None:
+        if controller not in CONTROLLERS:
+            raise ValueError(f'controller must be one of {CONTROLLERS}, got {controller!r}')
+        ratio = control_period / step
+        if abs(ratio - round(ratio)) > 1e-6 or round(ratio) < 1:
+            raise ValueError(f'the control period {control_period} s must be a whole number of steps of {step} s')
+        self.mode = controller
+        self.winch = winch
+        self.encoder = encoder
+        self.arm = arm
+        self.safety = SafetyMonitor(limits)
+        self.step_size = step
+        self.control_period = control_period
+        self.radial = SampleHold(radial_period)
+        self.catenary = CatenaryController(kp, kd, ki, control_period, voltage_limit, reference_mode, scheduler)
+        self.taut = TautController(taut_torque, winch.motor.shaft_constant)
+        self._next_control = 0.0
+        self._drive = BRAKE
+        self._command = 0.0
+        self._control: CatenaryOutput | None = None
+        self._trip = ''
+        self._arm_angle = math.nan
+
+    def measured_length(self) -> float:
+        """Deployed length (m) from the encoder count through the spool's layer model."""
+        angle = self.encoder.angle(self.encoder.counts(self.winch.state.spool_angle))
+        return self.winch.spool.deployed_length(self.winch.initial_length, angle)
+
+    def tension_estimate(self) -> float:
+        """Tension (N) from the motor current (:func:`~smart_reel.sensors.tension_from_current`)."""
+        w = self.winch
+        return tension_from_current(w.state.current, w.state.spool_rate, w.spool.radius(w.deployed),
+                                    w.motor.shaft_constant, w.friction.viscous, w.friction.coulomb)
+
+    def _control_tick(self, t: float, inputs: ReelInputs) -> None:
+        length = self.measured_length()
+        tension = self.tension_estimate()
+        self._control = None
+        if self.mode == 'locked':
+            drive, command, direction = BRAKE, 0.0, 0.0
+        elif self.mode == 'taut':
+            drive, command, direction = CURRENT, self.taut.current, -1.0
+        elif inputs.dz is None or inputs.dr is None:
+            drive, command, direction = BRAKE, 0.0, 0.0
+        else:
+            dr = self.radial.update(t, inputs.dr)
+            self._control = self.catenary.step(dr, inputs.dz, inputs.dz_rate or 0.0, length)
+            drive, command, direction = VOLTAGE, self._control.voltage, self._control.voltage
+        self._trip = self.safety.check(direction, inputs.clearance, self._arm_angle, tension)
+        if self._trip:
+            drive, command = BRAKE, 0.0
+        self._drive, self._command = drive, command
+
+    def step(self, t: float, inputs: ReelInputs) -> ReelOutputs:
+        """Run tick ``t`` (s): controller if due, then the winch over ``[t, t + step]``."""
+        tick = t >= self._next_control - 1e-9
+        if tick:
+            self._control_tick(t, inputs)
+            self._next_control = (math.floor(t / self.control_period + 1e-9) + 1) * self.control_period
+        w = self.winch
+        before_angle, before_length = w.state.spool_angle, w.deployed
+        state = w.step(self.step_size, self._drive, self._command, inputs.tension or 0.0)
+        payout = (w.deployed - before_length) / self.step_size
+        if inputs.departure_angle is not None:
+            self._arm_angle = self.arm.read(inputs.departure_angle, payout)
+        mode = 'fault' if self._trip else self.mode
+        return ReelOutputs(
+            mode=mode, drive=self._drive, drive_command=self._command, voltage=state.voltage,
+            current=state.current, shaft_torque=w.motor.shaft_constant * state.current,
+            spool_angle=state.spool_angle, spool_rate=state.spool_rate,
+            mean_spool_rate=(state.spool_angle - before_angle) / self.step_size, payout_rate=payout,
+            deployed_length=w.deployed, measured_length=self.measured_length(), radius=w.spool.radius(w.deployed),
+            tension_estimate=self.tension_estimate(), arm_angle=self._arm_angle,
+            current_limited=state.current_limited, trip=self._trip, trips=self.safety.trips,
+            control=self._control if tick else None, control_tick=tick)

@@ -1,0 +1,149 @@
+"""The spool drive: motor, gearbox, drum and wound tether against the tether's pull.
+
+Rotational balance at the spool shaft (positive = paying out), the drum part of the
+thesis's reel equation (Eq. 7.42) with the drive's inertia and friction added:
+
+    J(L) ω̇ = N K_t i + T r(L) - b ω - τ_c sgn ω,        J(L) = J_drum + J_wound(L) + N² J_m
+
+with ``T`` the tether tension at the guide way, ``r(L)`` the radius it leaves the drum from
+(:class:`~smart_reel.spool.SpoolGeometry`), viscous friction ``b`` and Coulomb friction
+``τ_c``. A resting spool stays at rest while the net torque ``|N K_t i + T r|`` is at most
+the static friction ``τ_s ≥ τ_c`` (stiction, the threshold the thesis's taut controller had
+to run above, Sec. 6.1.4). A brake holds the spool at rest.
+
+Why the drive is integrated here and not in the tether plant: a voltage-driven motor damps
+the spool by ``(N K)²/R`` (10.7 N m s/rad with the defaults) against an inertia of
+about 0.03-0.05 kg m², a time constant of 3-5 ms. Exchanging torque and spool rate between
+two nodes at 100 Hz, one step apart, multiplies the spool rate by ``-h (N K)²/(R J) ≈ -2...-4``
+per step: the loop is unstable. So the stiff electromechanics are integrated here in
+sub-steps of at most ``max_substep`` (exact current exponential, implicit viscous term),
+with the tether tension of the last plant step as the load, and the plant receives the
+resulting payout over the step (``ReelCommand.CONTROL_SPOOL_RATE``). The remaining loop
+(tension → spool → payout → tension) crosses the one-step delay only through the
+tether's compliance, which is slow against the step.
+
+References
+----------
+K. Talke, PhD thesis, UC San Diego, 2021, Sec. 4.1, 6.1.4, Eq. 7.42.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+from smart_reel.motor import MotorParameters
+from smart_reel.motor import current_command
+from smart_reel.motor import current_step
+from smart_reel.spool import SpoolGeometry
+
+VOLTAGE = 'voltage'
+CURRENT = 'current'
+BRAKE = 'brake'
+DRIVES = (VOLTAGE, CURRENT, BRAKE)
+
+
+@dataclass(frozen=True)
+class Friction:
+    """Drivetrain friction at the spool shaft."""
+
+    viscous: float = 0.02
+    """b (N m s/rad)."""
+    coulomb: float = 0.25
+    """τ_c (N m), while turning."""
+    static: float = 0.35
+    """τ_s (N m), to break away from rest; at least ``coulomb``."""
+
+    def __post_init__(self) -> None:
+        if min(self.viscous, self.coulomb, self.static) < 0.0 or self.static < self.coulomb:
+            raise ValueError(f'friction needs viscous, coulomb >= 0 and static >= coulomb, got {self}')
+
+
+@dataclass
+class WinchState:
+    """State of the spool drive."""
+
+    spool_angle: float = 0.0
+    """θ (rad) from the start of the run, + pays out."""
+    spool_rate: float = 0.0
+    """ω (rad/s), + pays out."""
+    current: float = 0.0
+    """Winding current (A)."""
+    voltage: float = 0.0
+    """Winding voltage applied by the drive in the last sub-step (V)."""
+    current_limited: bool = False
+    """The drive clipped the current in the last step."""
+    stuck: bool = True
+    """The spool is held by stiction or the brake."""
+
+
+class Winch:
+    """Spool drive stepped with explicit time: ``step(dt, drive, command, tension)``.
+
+    ``drive`` is :data:`VOLTAGE` (``command`` in V), :data:`CURRENT` (A, the drive's torque
+    mode) or :data:`BRAKE` (``command`` ignored).
+    """
+
+    def __init__(self, motor: MotorParameters, spool: SpoolGeometry, friction: Friction, drum_inertia: float,
+                 initial_length: float, max_substep: float = 1e-3, stick_rate: float = 1e-3) -> None:
+        if not 0.0 < initial_length <= spool.capacity:
+            raise ValueError(f'initial deployed length {initial_length} m outside (0, {spool.capacity}] m')
+        self.motor = motor
+        self.spool = spool
+        self.friction = friction
+        self.drum_inertia = drum_inertia
+        self.initial_length = initial_length
+        self.max_substep = max_substep
+        self.stick_rate = stick_rate
+        self.state = WinchState()
+        self.deployed = initial_length
+
+    def inertia(self) -> float:
+        """Total inertia at the spool shaft (kg m²) at the current deployed length."""
+        return self.drum_inertia + self.spool.wound_inertia(self.deployed) + self.motor.reflected_inertia
+
+    def step(self, dt: float, drive: str, command: float, tension: float) -> WinchState:
+        """Advance ``dt`` seconds with the drive command and tether ``tension`` (N) held.
+
+        The drum radius and the inertia are those at the start of the step (they change
+        only when the tether crosses into another layer).
+        """
+        if drive not in DRIVES:
+            raise ValueError(f'drive must be one of {DRIVES}, got {drive!r}')
+        n = max(1, math.ceil(dt / self.max_substep - 1e-9))
+        h = dt / n
+        s = self.state
+        m = self.motor
+        f = self.friction
+        limited = False
+        r = self.spool.radius(self.deployed)
+        j = self.inertia()
+        load = tension * r
+        for _ in range(n):
+            if drive == VOLTAGE:
+                s.current = current_step(m, s.current, command, s.spool_rate, h)
+                s.voltage = min(max(command, -m.supply_voltage), m.supply_voltage)
+                limited |= abs(s.current) >= m.current_limit
+            elif drive == CURRENT:
+                s.current = current_command(m, command, s.spool_rate)
+                s.voltage = s.current * m.resistance + m.shaft_constant * s.spool_rate
+                limited |= s.current != command
+            else:
+                s.current = 0.0
+                s.voltage = 0.0
+            active = m.shaft_constant * s.current + load
+            if drive == BRAKE or (abs(s.spool_rate) <= self.stick_rate and abs(active) <= f.static):
+                s.spool_rate = 0.0
+                s.stuck = True
+                continue
+            direction = s.spool_rate if s.spool_rate != 0.0 else active
+            coulomb = math.copysign(f.coulomb, direction)
+            new_rate = (j * s.spool_rate + h * (active - coulomb)) / (j + h * f.viscous)
+            if s.spool_rate != 0.0 and new_rate * s.spool_rate < 0.0:
+                new_rate = 0.0
+            s.spool_angle += 0.5 * h * (s.spool_rate + new_rate)
+            s.spool_rate = new_rate
+            s.stuck = False
+        self.deployed = self.spool.deployed_length(self.initial_length, s.spool_angle)
+        s.current_limited = limited
+        return s

@@ -1,0 +1,47 @@
+"""The reel core in closed loop against the quasi-static catenary (the tuning's design simulation)."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from smart_reel.reel import ReelInputs
+from smart_reel.reel import build_core
+from smart_reel.tuning import default_parameters
+from smart_reel.tuning import heave_profile
+from smart_reel.tuning import simulate
+
+
+def test_catenary_controller_follows_the_reference_on_the_jonswap_profile():
+    params = default_parameters()
+    sim = simulate(params, *heave_profile('jonswap', 30.0, 100.0, seed=2))
+    keep = sim['t'] >= 5.0
+    err = sim['deployed'][keep] - sim['reference'][keep]
+    assert np.sqrt(np.mean(err**2)) <= 0.015
+    assert np.ptp(sim['reference']) > 1.0  # the profile does move the reference
+
+
+def test_locked_reel_never_turns():
+    core = build_core(dict(default_parameters(), controller='locked'), 8.0)
+    for k in range(100):
+        out = core.step(k * 0.01, ReelInputs(3.22, 7.0, 0.5, 20.0, 0.5))
+    assert out.deployed_length == 8.0 and out.drive == 'brake' and out.mode == 'locked'
+
+
+def test_taut_controller_reels_in_until_the_pull_balances_its_torque():
+    params = default_parameters()
+    core = build_core(dict(params, controller='taut'), 8.0)
+    radius = core.winch.spool.radius(8.0)
+    weak = 0.5 * params['taut_torque'] / radius
+    for k in range(50):
+        out = core.step(k * 0.01, ReelInputs(tension=weak))
+    assert out.payout_rate < 0.0 and out.mode == 'taut' and out.drive == 'current'
+    strong = (params['taut_torque'] + 2.0 * params['friction_static']) / radius
+    for k in range(50, 150):
+        out = core.step(k * 0.01, ReelInputs(tension=strong))
+    assert out.payout_rate > 0.0
+
+
+def test_catenary_controller_waits_for_the_relative_position():
+    core = build_core(default_parameters(), 8.0)
+    out = core.step(0.0, ReelInputs(tension=1.0))
+    assert out.drive == 'brake' and out.control is None
