@@ -26,7 +26,7 @@ from pycatenary import MooringLine
 from scipy.interpolate import RegularGridInterpolator
 from scipy.optimize import brentq
 
-from tether_dynamics import catenary, flying_space, heave_robustness, reference_length
+from tether_dynamics.statics import catenary, flying_space, heave_robustness, reference_length
 
 LAMBDA = catenary.THESIS_LINEAR_DENSITY
 PEER_SUBSET = 400

@@ -14,8 +14,8 @@ from tether_common.command_line import UsageError
 from tether_common.command_line import positive
 
 ANALYSIS_GROUPS = {
-    'catenary': ('tether_dynamics.catenary_cli', 'catenary statics, heave robustness, flying space (thesis Ch. 3)'),
-    'fem': ('tether_dynamics.fem_cli', 'finite-element tether dynamics, the Chapter 9 pendulum'),
+    'catenary': ('tether_dynamics.commands.catenary', 'catenary statics, heave robustness, flying space (thesis Ch. 3)'),
+    'fem': ('tether_dynamics.commands.fem', 'finite-element tether dynamics, the Chapter 9 pendulum'),
     'psr': ('psr_platform_sim.cli', '3-PSR wave replicator: workspace and design optimization (Ch. 2)'),
     'reel': ('smart_reel.cli', 'smart reel: catenary-controller gain tuning (Sec. 4.2)'),
 }

@@ -7,7 +7,7 @@ import pytest
 from scipy.integrate import solve_ivp
 from scipy.optimize import fsolve
 
-from tether_dynamics import catenary
+from tether_dynamics.statics import catenary
 
 LG = catenary.THESIS_LINEAR_DENSITY * catenary.GRAVITY
 

@@ -1,4 +1,4 @@
-"""Tests of ``tethersim catenary`` (tether_dynamics.catenary_cli)."""
+"""Tests of ``tethersim catenary`` (tether_dynamics.commands.catenary)."""
 
 from __future__ import annotations
 
@@ -6,7 +6,7 @@ from pathlib import Path
 
 import pytest
 
-from tether_dynamics import catenary_cli
+from tether_dynamics.commands import catenary as catenary_cli
 
 
 def test_analyze_writes_summary_tables_and_plots(tmp_path: Path,

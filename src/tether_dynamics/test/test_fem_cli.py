@@ -6,7 +6,7 @@ from pathlib import Path
 
 import pytest
 
-from tether_dynamics import fem_cli
+from tether_dynamics.commands import fem as fem_cli
 
 
 def test_pendulum_writes_plots_and_summary(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:

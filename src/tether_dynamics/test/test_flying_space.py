@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from tether_dynamics import catenary, flying_space, heave_robustness
+from tether_dynamics.statics import catenary, flying_space, heave_robustness
 
 LAMBDA = catenary.THESIS_LINEAR_DENSITY
 

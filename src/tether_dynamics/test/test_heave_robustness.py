@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from tether_dynamics import catenary, heave_robustness
+from tether_dynamics.statics import catenary, heave_robustness
 
 RNG = np.random.default_rng(2021)
 DR = np.concatenate([[1e-3, 0.01, 20.0], RNG.uniform(0.1, 60.0, 200)])

@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from tether_dynamics import heave_robustness, reference_length
+from tether_dynamics.statics import heave_robustness, reference_length
 
 
 @pytest.mark.parametrize('ratio', [0.1, 0.46, 1.0])

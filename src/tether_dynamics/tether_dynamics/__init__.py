@@ -1,1 +1,2 @@
-"""Tether statics (catenary, heave robustness, reference length) and dynamics (finite elements) for tethersim."""
+"""Tether statics (``statics``), finite-element dynamics (``fem``), the tether plant with a
+moving reel (``plant``), and their command-line and plotting code (``commands``)."""

@@ -2,11 +2,10 @@
 
 All compiled code lives in this one module so that numba's on-disk cache is invalidated
 whenever any of it changes. The model is passed as a tuple ``mdl`` built by
-:mod:`tether_dynamics.fem.model`:
-
-    (ip, fp, K_band, G, gload, kin_idx, kin_pos, kin_vel, kin_acc, Pi, Pi_inv, rho_c,
-     X, V, F, A_kin, vec_scratch (9, 3), mat_scratch (3, 3, 3),
-     Z_cols, Z_vals, ZT_cols, ZT_vals, H, W_last, work (n_q, 3), spline (3, N + 2, 3), GQ)
+:mod:`tether_dynamics.fem.model`, its members in the order of :data:`MDL_FIELDS`:
+ip, fp, the banded factor K_band, G, gload, the kinematic index and tables, Pi, Pi^-1,
+rho_c, the work arrays X, V, F, a_k, vec (9, 3), mat (3, 3, 3), the sparse rows of Z and
+Z^T, H, W_last, the generalised-force work array q (n_q, 3), spline (3, N + 2, 3), GQ.
 
 The state is in generalised coordinates q (Eq. 8.39-8.45 solved without multipliers):
 free nodes x_f = Z q + H x_k, x_k the kinematic nodes. For linear elements Z = I and
@@ -25,14 +24,12 @@ and the caller owns every array). With counting on, each call's array arguments 
 atomic increment and decrement, which was most of the run time of small models
 (bench/fem_tradeoff). A helper that would allocate fails to compile, so this is checked.
 
-ip (int64): element type (1 linear, 2 quadratic), n_all nodes, n_elem, first free node f0,
-one past the last free node f1, end kind (0 kinematic, 1 point mass, 2 rigid body),
-Kelvin-Voigt on, drag on, wind on, number of kinematic nodes, samples per kinematic table,
-tension-only, any prescribed (moving) end, number of generalised coordinates n_q.
-fp (float64): EA, l0, mu, g (3), end mass, Kelvin-Voigt c, air density, Cd normal,
-Cd tangential, diameter, wind U (3), wind z_ref, wind alpha, wind z_ground, table t0,
-table dt, end force (3), strain limit, z_last . W_last (the last free node's entry of
-the constrained inverse mass).
+The positional layout of ``ip``, ``fp`` and ``mdl`` is named once, below (``IP_*``,
+``FP_*``, ``MDL_*``, in the order of ``IP_FIELDS``, ``FP_FIELDS``, ``MDL_FIELDS``); the
+builder packs them by name with :func:`pack_ip`, :func:`pack_fp` and :func:`pack_mdl`,
+which refuse a missing or unknown field. The constants live in this module (not a
+module of their own) because numba freezes them into the cached machine code, and its
+cache is keyed on this file.
 
 State vector y = [q (3 n_q), qdot (3 n_q), Omega (3), R row-major (9)] (Eq. 8.18-8.19).
 """
@@ -49,13 +46,80 @@ STATUS_OK = 0
 STATUS_NONFINITE = 1
 STATUS_STRAIN = 2
 
+IP_FIELDS = ('element', 'n_all', 'n_elem', 'free_first', 'free_end', 'end_kind', 'kv_on', 'drag_on', 'wind_on',
+             'n_kin', 'n_samples', 'tension_only', 'moving', 'n_q')
+"""ip (int64): element type (1 linear, 2 quadratic), number of nodes, number of elements,
+first free node, one past the last free node, end kind (0 kinematic, 1 point mass, 2 rigid
+body), Kelvin-Voigt on, drag on, wind on, number of kinematic nodes, samples per kinematic
+table, tension-only, any prescribed (moving) end, number of generalised coordinates n_q."""
+(IP_ELEMENT, IP_N_ALL, IP_N_ELEM, IP_FREE_FIRST, IP_FREE_END, IP_END_KIND, IP_KV_ON, IP_DRAG_ON, IP_WIND_ON,
+ IP_N_KIN, IP_N_SAMPLES, IP_TENSION_ONLY, IP_MOVING, IP_N_Q) = range(len(IP_FIELDS))
+
+FP_FIELDS = (('ea', 1), ('l0', 1), ('mu', 1), ('gravity', 3), ('end_mass', 1), ('kv_c', 1), ('air_density', 1),
+             ('cd_normal', 1), ('cd_tangential', 1), ('diameter', 1), ('wind_u', 3), ('wind_z_ref', 1),
+             ('wind_alpha', 1), ('wind_z_ground', 1), ('table_t0', 1), ('table_dt', 1), ('end_force', 3),
+             ('strain_limit', 1), ('c_last', 1))
+"""fp (float64), (name, width): EA (N), element rest length l0 (m), mu (kg/m), gravity (3,
+m/s^2), end mass (kg), Kelvin-Voigt coefficient (N s), air density (kg/m^3), Cd normal,
+Cd tangential, diameter (m), wind velocity (3, m/s), wind reference height (m), wind
+shear exponent, wind ground height (m), kinematic-table start time and step (s), constant
+end force (3, N), strain limit, z_last . W_last (the last free node's entry of the
+constrained inverse mass)."""
+(FP_EA, FP_L0, FP_MU, FP_GRAVITY, FP_END_MASS, FP_KV_C, FP_AIR_DENSITY, FP_CD_NORMAL, FP_CD_TANGENTIAL,
+ FP_DIAMETER, FP_WIND_U, FP_WIND_Z_REF, FP_WIND_ALPHA, FP_WIND_Z_GROUND, FP_TABLE_T0, FP_TABLE_DT, FP_END_FORCE,
+ FP_STRAIN_LIMIT, FP_C_LAST) = tuple(int(i) for i in np.cumsum([0] + [w for _, w in FP_FIELDS])[:-1])
+FP_SIZE = sum(w for _, w in FP_FIELDS)
+
+MDL_FIELDS = ('ip', 'fp', 'k_band', 'g_op', 'gload', 'kin_idx', 'kin_pos', 'kin_vel', 'kin_acc', 'pi_m', 'pi_inv',
+              'rho_c', 'x', 'v', 'f', 'a_k', 'vec', 'mat', 'z_cols', 'z_vals', 'zt_cols', 'zt_vals', 'h_op',
+              'w_last', 'q', 'spline', 'gq')
+"""mdl (tuple), in the order the steppers unpack it; the names are the kernels' argument names."""
+(MDL_IP, MDL_FP, MDL_K_BAND, MDL_G_OP, MDL_GLOAD, MDL_KIN_IDX, MDL_KIN_POS, MDL_KIN_VEL, MDL_KIN_ACC, MDL_PI_M,
+ MDL_PI_INV, MDL_RHO_C, MDL_X, MDL_V, MDL_F, MDL_A_K, MDL_VEC, MDL_MAT, MDL_Z_COLS, MDL_Z_VALS, MDL_ZT_COLS,
+ MDL_ZT_VALS, MDL_H_OP, MDL_W_LAST, MDL_Q, MDL_SPLINE, MDL_GQ) = range(len(MDL_FIELDS))
+
+
+def _check_names(kind: str, given: dict, names: tuple) -> None:
+    """Refuse a field set that is not exactly ``names``."""
+    missing = [n for n in names if n not in given]
+    unknown = [n for n in given if n not in names]
+    if missing or unknown:
+        msg = f'{kind} layout mismatch: missing {missing}, unknown {unknown}'
+        raise ValueError(msg)
+
+
+def pack_ip(**fields: int) -> np.ndarray:
+    """The ip array from its named fields (:data:`IP_FIELDS`)."""
+    _check_names('ip', fields, IP_FIELDS)
+    return np.array([int(fields[n]) for n in IP_FIELDS], np.int64)
+
+
+def pack_fp(**fields: float | np.ndarray) -> np.ndarray:
+    """The fp array from its named fields (:data:`FP_FIELDS`; 3-wide fields take 3-vectors)."""
+    _check_names('fp', fields, tuple(n for n, _ in FP_FIELDS))
+    parts = []
+    for name, width in FP_FIELDS:
+        value = np.atleast_1d(np.asarray(fields[name], float))
+        if value.shape != (width,):
+            msg = f'fp field {name!r} needs {width} value(s), got shape {value.shape}'
+            raise ValueError(msg)
+        parts.append(value)
+    return np.concatenate(parts)
+
+
+def pack_mdl(**fields: object) -> tuple:
+    """The model tuple from its named members (:data:`MDL_FIELDS`)."""
+    _check_names('mdl', fields, MDL_FIELDS)
+    return tuple(fields[n] for n in MDL_FIELDS)
+
+
 
 @njit(cache=True, _nrt=False)
 def _kinematic_nodes(t, ip, fp, kin_idx, kin_pos, kin_vel, kin_acc, x, v, a_k):
     """Positions, velocities, accelerations of prescribed nodes at time t (Hermite tables)."""
-    n_s = ip[10]
-    h = fp[19]
-    s = (t - fp[18]) / h
+    n_s = ip[IP_N_SAMPLES]
+    h = fp[FP_TABLE_DT]
+    s = (t - fp[FP_TABLE_T0]) / h
     i = int(np.floor(s))
     if i < 0:
         i = 0
@@ -68,7 +132,7 @@ def _kinematic_nodes(t, ip, fp, kin_idx, kin_pos, kin_vel, kin_acc, x, v, a_k):
     h10 = u3 - 2.0 * u2 + u
     h01 = -2.0 * u3 + 3.0 * u2
     h11 = u3 - u2
-    for k in range(ip[9]):
+    for k in range(ip[IP_N_KIN]):
         n = kin_idx[k]
         for c in range(3):
             x[n, c] = (h00 * kin_pos[k, i, c] + h10 * h * kin_vel[k, i, c]
@@ -81,15 +145,16 @@ def _kinematic_nodes(t, ip, fp, kin_idx, kin_pos, kin_vel, kin_acc, x, v, a_k):
 @njit(cache=True)
 def _kinematic_of_model(t, mdl):
     """_kinematic_nodes on the model's tables, if an end moves."""
-    if mdl[0][12] == 1:
-        _kinematic_nodes(t, mdl[0], mdl[1], mdl[5], mdl[6], mdl[7], mdl[8], mdl[12], mdl[13], mdl[15])
+    if mdl[MDL_IP][IP_MOVING] == 1:
+        _kinematic_nodes(t, mdl[MDL_IP], mdl[MDL_FP], mdl[MDL_KIN_IDX], mdl[MDL_KIN_POS], mdl[MDL_KIN_VEL],
+                         mdl[MDL_KIN_ACC], mdl[MDL_X], mdl[MDL_V], mdl[MDL_A_K])
 
 
 @njit(cache=True, _nrt=False)
 def _copy_free(y, offset, ip, out):
     """Free nodes of out = q = y[offset:offset + 3 n_q] (linear elements: Z = I, H = 0)."""
-    f0 = ip[3]
-    for i in range(ip[4] - f0):
+    f0 = ip[IP_FREE_FIRST]
+    for i in range(ip[IP_FREE_END] - f0):
         for c in range(3):
             out[f0 + i, c] = y[offset + 3 * i + c]
 
@@ -97,11 +162,11 @@ def _copy_free(y, offset, ip, out):
 @njit(cache=True, _nrt=False)
 def _to_nodes(y, offset, ip, z_cols, z_vals, h_op, kin_idx, out):
     """Free nodes of out = Z q + H out[kinematic], q = y[offset:offset + 3 n_q]."""
-    if ip[0] == 1:
+    if ip[IP_ELEMENT] == 1:
         _copy_free(y, offset, ip, out)
         return
-    f0 = ip[3]
-    nf = ip[4] - f0
+    f0 = ip[IP_FREE_FIRST]
+    nf = ip[IP_FREE_END] - f0
     for i in range(nf):
         a0 = a1 = a2 = 0.0
         for k in range(z_cols.shape[1]):
@@ -110,7 +175,7 @@ def _to_nodes(y, offset, ip, z_cols, z_vals, h_op, kin_idx, out):
             a0 += val * y[j]
             a1 += val * y[j + 1]
             a2 += val * y[j + 2]
-        for k in range(ip[9]):
+        for k in range(ip[IP_N_KIN]):
             h = h_op[i, k]
             n = kin_idx[k]
             a0 += h * out[n, 0]
@@ -128,19 +193,19 @@ def _unpack(y, ip, x, v, velocities, z_cols, z_vals, h_op, kin_idx):
     """
     _to_nodes(y, 0, ip, z_cols, z_vals, h_op, kin_idx, x)
     if velocities:
-        _to_nodes(y, 3 * ip[13], ip, z_cols, z_vals, h_op, kin_idx, v)
+        _to_nodes(y, 3 * ip[IP_N_Q], ip, z_cols, z_vals, h_op, kin_idx, v)
 
 
 @njit(cache=True, inline='always')
 def _wind(z, fp):
     """Wind velocity at height z (uniform if alpha = 0, else power-law shear)."""
-    if fp[16] == 0.0:
-        return fp[12], fp[13], fp[14]
-    dz = z - fp[17]
+    if fp[FP_WIND_ALPHA] == 0.0:
+        return fp[FP_WIND_U], fp[FP_WIND_U + 1], fp[FP_WIND_U + 2]
+    dz = z - fp[FP_WIND_Z_GROUND]
     if dz <= 0.0:
         return 0.0, 0.0, 0.0
-    s = (dz / fp[15]) ** fp[16]
-    return fp[12] * s, fp[13] * s, fp[14] * s
+    s = (dz / fp[FP_WIND_Z_REF]) ** fp[FP_WIND_ALPHA]
+    return fp[FP_WIND_U] * s, fp[FP_WIND_U + 1] * s, fp[FP_WIND_U + 2] * s
 
 
 @njit(cache=True, inline='always')
@@ -164,11 +229,11 @@ def _linear_forces(ip, fp, x, v, f):
     Returns the largest element length and its element: the strain check of the steppers
     comes with the forces at no extra cost.
     """
-    ea, l0, c_kv = fp[0], fp[1], fp[7]
-    kv_on = ip[6] == 1
-    tension_only = ip[11] == 1
+    ea, l0, c_kv = fp[FP_EA], fp[FP_L0], fp[FP_KV_C]
+    kv_on = ip[IP_KV_ON] == 1
+    tension_only = ip[IP_TENSION_ONLY] == 1
     worst, where = -1.0, 0
-    for e in range(ip[2]):
+    for e in range(ip[IP_N_ELEM]):
         d0 = x[e + 1, 0] - x[e, 0]
         d1 = x[e + 1, 1] - x[e, 1]
         d2 = x[e + 1, 2] - x[e, 2]
@@ -196,15 +261,15 @@ def _control_points(y, offset, ip, ends, cp):
     """All N + 2 B-spline control points of a quadratic-element string from the generalised
     coordinates y[offset:] and the kinematic end nodes ``ends`` (x or v): a kinematic end
     node is the mean of its two control points (:func:`constraints.c1_basis`)."""
-    nq = ip[13]
+    nq = ip[IP_N_Q]
     for i in range(nq):
         for c in range(3):
             cp[1 + i, c] = y[offset + 3 * i + c]
-    last = ip[2] + 1
-    far = ip[1] - 1
+    last = ip[IP_N_ELEM] + 1
+    far = ip[IP_N_ALL] - 1
     for c in range(3):
         cp[0, c] = 2.0 * ends[0, c] - cp[1, c]
-        if ip[5] == 0:
+        if ip[IP_END_KIND] == 0:
             cp[last, c] = 2.0 * ends[far, c] - cp[last - 1, c]
 
 
@@ -218,14 +283,14 @@ def _spline_forces(ip, fp, cp, cv, qf, q):
     same virtual work as the nodal stencil, Z^T F, without forming the nodes. Returns the
     largest l0 |r'| over Gauss points (the element length at that stretch) and its element.
     """
-    ea, l0, c_kv = fp[0], fp[1], fp[7]
-    kv_on = ip[6] == 1
-    tension_only = ip[11] == 1
+    ea, l0, c_kv = fp[FP_EA], fp[FP_L0], fp[FP_KV_C]
+    kv_on = ip[IP_KV_ON] == 1
+    tension_only = ip[IP_TENSION_ONLY] == 1
     worst, where = -1.0, 0
     for i in range(qf.shape[0]):
         for c in range(3):
             qf[i, c] = 0.0
-    for j in range(ip[2]):
+    for j in range(ip[IP_N_ELEM]):
         p0 = p1 = p2 = s0 = s1 = s2 = 0.0
         for g in range(2):
             u = GAUSS_U[g]
@@ -259,14 +324,14 @@ def _spline_forces(ip, fp, cp, cv, qf, q):
         qf[j + 2, 0] -= s0
         qf[j + 2, 1] -= s1
         qf[j + 2, 2] -= s2
-    last = ip[2] + 1
-    for i in range(ip[13]):
+    last = ip[IP_N_ELEM] + 1
+    for i in range(ip[IP_N_Q]):
         for c in range(3):
             q[i, c] += qf[1 + i, c]
     for c in range(3):
         q[0, c] -= qf[0, c]
-        if ip[5] == 0:
-            q[ip[13] - 1, c] -= qf[last, c]
+        if ip[IP_END_KIND] == 0:
+            q[ip[IP_N_Q] - 1, c] -= qf[last, c]
     return worst, where
 
 
@@ -290,12 +355,12 @@ def _shape(npe, g, k, l0):
 @njit(cache=True, _nrt=False)
 def _drag_forces(ip, fp, x, v, f):
     """Add air drag 1/2 rho |u| u C_D A (normal and tangential) at 2 Gauss points per element."""
-    l0 = fp[1]
-    half_rho_d = 0.5 * fp[8] * fp[11]
-    cdn, cdt = fp[9], np.pi * fp[10]
-    npe = 2 if ip[0] == 1 else 3
+    l0 = fp[FP_L0]
+    half_rho_d = 0.5 * fp[FP_AIR_DENSITY] * fp[FP_DIAMETER]
+    cdn, cdt = fp[FP_CD_NORMAL], np.pi * fp[FP_CD_TANGENTIAL]
+    npe = 2 if ip[IP_ELEMENT] == 1 else 3
     wjac = 0.5 * l0
-    for e in range(ip[2]):
+    for e in range(ip[IP_N_ELEM]):
         n0 = e * (npe - 1)
         for g in range(2):
             r0 = r1 = r2 = 0.0
@@ -312,7 +377,7 @@ def _drag_forces(ip, fp, x, v, f):
                 t0 += sl * x[n0 + k, 0]
                 t1 += sl * x[n0 + k, 1]
                 t2 += sl * x[n0 + k, 2]
-            if ip[8] == 1:
+            if ip[IP_WIND_ON] == 1:
                 w0, w1, w2 = _wind(r2, fp)
                 u0 += w0
                 u1 += w1
@@ -381,14 +446,14 @@ def _end_body(y, base, ip, fp, pi_m, pi_inv, rho_c, vec, mat):
     acts on its node as a force F_b - M_e a_n, M_e = m I + m^2 R rho^ Pi^-1 rho^ R^T.
     Writes F_b to vec[0], M_e to mat[0] and the torque without the a_n term to vec[8].
     """
-    m = fp[6]
+    m = fp[FP_END_MASS]
     for c in range(3):
-        vec[4, c] = fp[3 + c]
-        vec[0, c] = m * fp[3 + c] + fp[20 + c]
+        vec[4, c] = fp[FP_GRAVITY + c]
+        vec[0, c] = m * fp[FP_GRAVITY + c] + fp[FP_END_FORCE + c]
         vec[8, c] = 0.0
         for k in range(3):
             mat[0, c, k] = m if c == k else 0.0
-    if ip[5] != 2:
+    if ip[IP_END_KIND] != 2:
         return
     fb, tau, tmp, tmp2, grav = vec[0], vec[8], vec[2], vec[3], vec[4]
     me = mat[0]
@@ -456,15 +521,15 @@ def _band_solve(lb, u):
 def _nodal_model_forces(y, ip, fp, gload, x, v, f, q):
     """Generalised forces of linear elements (Z = I): the free nodes' gravity, elastic and
     drag forces into q. Returns :func:`_linear_forces`'s largest length and its element."""
-    f0 = ip[3]
+    f0 = ip[IP_FREE_FIRST]
     _copy_free(y, 0, ip, x)
-    if ip[6] == 1 or ip[7] == 1:
-        _copy_free(y, 3 * ip[13], ip, v)
+    if ip[IP_KV_ON] == 1 or ip[IP_DRAG_ON] == 1:
+        _copy_free(y, 3 * ip[IP_N_Q], ip, v)
     for i in range(f.shape[0]):
         for c in range(3):
             f[i, c] = gload[i, c]
     worst, where = _linear_forces(ip, fp, x, v, f)
-    if ip[7] == 1:
+    if ip[IP_DRAG_ON] == 1:
         _drag_forces(ip, fp, x, v, f)
     for i in range(q.shape[0]):
         for c in range(3):
@@ -481,14 +546,14 @@ def _spline_model_forces(y, ip, fp, kin_idx, x, v, f, z_cols, z_vals, zt_cols, z
         for c in range(3):
             q[i, c] = gq[i, c]
     _control_points(y, 0, ip, x, spline[0])
-    if ip[6] == 1:
-        _control_points(y, 3 * ip[13], ip, v, spline[1])
+    if ip[IP_KV_ON] == 1:
+        _control_points(y, 3 * ip[IP_N_Q], ip, v, spline[1])
     worst, where = _spline_forces(ip, fp, spline[0], spline[1], spline[2], q)
-    if ip[7] == 1:
+    if ip[IP_DRAG_ON] == 1:
         _unpack(y, ip, x, v, True, z_cols, z_vals, h_op, kin_idx)
         f[:, :] = 0.0
         _drag_forces(ip, fp, x, v, f)
-        f0 = ip[3]
+        f0 = ip[IP_FREE_FIRST]
         for j in range(q.shape[0]):
             for k in range(zt_cols.shape[1]):
                 row, val = f0 + zt_cols[j, k], zt_vals[j, k]
@@ -500,8 +565,8 @@ def _spline_model_forces(y, ip, fp, kin_idx, x, v, f, z_cols, z_vals, zt_cols, z
 @njit(cache=True, _nrt=False)
 def _last_node(dy, va, ip, z_cols, z_vals, h_op, a_k, out):
     """Acceleration of the last free node from qddot = dy[va:] (and the kinematic a_k)."""
-    i = ip[4] - ip[3] - 1
-    if ip[0] == 1:
+    i = ip[IP_FREE_END] - ip[IP_FREE_FIRST] - 1
+    if ip[IP_ELEMENT] == 1:
         for c in range(3):
             out[c] = dy[va + 3 * i + c]
         return
@@ -509,7 +574,7 @@ def _last_node(dy, va, ip, z_cols, z_vals, h_op, a_k, out):
         acc = 0.0
         for k in range(z_cols.shape[1]):
             acc += z_vals[i, k] * dy[va + 3 * z_cols[i, k] + c]
-        for k in range(ip[9]):
+        for k in range(ip[IP_N_KIN]):
             acc += h_op[i, k] * a_k[k, c]
         out[c] = acc
 
@@ -523,8 +588,8 @@ def _rhs(t, y, dy, ip, fp, k_band, g_op, gload, kin_idx, kin_pos, kin_vel, kin_a
     qddot = K^-1 Z^T F_f + G a_k (Eq. 8.44 in generalised coordinates, no multipliers,
     O(N) by the banded Cholesky factor of K = Z^T M_ff Z), then the end body's coupling.
     """
-    nq = ip[13]
-    if ip[0] == 1:
+    nq = ip[IP_N_Q]
+    if ip[IP_ELEMENT] == 1:
         worst, where = _nodal_model_forces(y, ip, fp, gload, x, v, f, q)
     else:
         worst, where = _spline_model_forces(y, ip, fp, kin_idx, x, v, f, z_cols, z_vals, zt_cols, zt_vals, h_op,
@@ -535,7 +600,7 @@ def _rhs(t, y, dy, ip, fp, k_band, g_op, gload, kin_idx, kin_pos, kin_vel, kin_a
         dy[i] = y[va + i]
     for i in range(nq):
         a0, a1, a2 = q[i, 0], q[i, 1], q[i, 2]
-        for k in range(ip[9]):
+        for k in range(ip[IP_N_KIN]):
             gik = g_op[i, k]
             a0 += gik * a_k[k, 0]
             a1 += gik * a_k[k, 1]
@@ -546,13 +611,13 @@ def _rhs(t, y, dy, ip, fp, k_band, g_op, gload, kin_idx, kin_pos, kin_vel, kin_a
     base = 6 * nq
     for i in range(12):
         dy[base + i] = 0.0
-    if ip[5] == 0:
+    if ip[IP_END_KIND] == 0:
         return worst, where
     _end_body(y, base, ip, fp, pi_m, pi_inv, rho_c, vec, mat)
     # vec rows: 0 F_b, 1 a_n without the body, 8 torque, 5 a_n, 6 right-hand side, 7 correction;
     # mat: 0 M_e, 1 system, 2 scratch.
     _last_node(dy, va, ip, z_cols, z_vals, h_op, a_k, vec[1])
-    c_last = fp[24]
+    c_last = fp[FP_C_LAST]
     for r in range(3):
         vec[6, r] = vec[1, r] + c_last * vec[0, r]
         for c in range(3):
@@ -566,7 +631,7 @@ def _rhs(t, y, dy, ip, fp, k_band, g_op, gload, kin_idx, kin_pos, kin_vel, kin_a
         dy[va + 3 * i] += ci * c0
         dy[va + 3 * i + 1] += ci * c1
         dy[va + 3 * i + 2] += ci * c2
-    if ip[5] == 2:
+    if ip[IP_END_KIND] == 2:
         _body_rates(y, dy, base, vec[5], fp, pi_inv, rho_c, vec)
     return worst, where
 
@@ -580,7 +645,7 @@ def _body_rates(y, dy, base, a_n, fp, pi_inv, rho_c, vec):
     _mv(rot, a_n, tmp1, True)
     _cross(rho_c, tmp1, tmp2)
     for c in range(3):
-        tmp2[c] = tau[c] - fp[6] * tmp2[c]
+        tmp2[c] = tau[c] - fp[FP_END_MASS] * tmp2[c]
     _mv(pi_inv, tmp2, tmp1, False)
     for c in range(3):
         dy[base + c] = tmp1[c]
@@ -602,7 +667,7 @@ def rhs(t, y, dy, mdl):
 @njit(cache=True)
 def _renormalize(y, ip):
     """Keep the rotation block of y orthonormal: one Newton step of the polar decomposition."""
-    base = 6 * ip[13] + 3
+    base = 6 * ip[IP_N_Q] + 3
     rot = y[base:base + 9].reshape((3, 3)).copy()
     rot = 1.5 * rot - 0.5 * rot @ (rot.T @ rot)
     for r in range(3):
@@ -619,8 +684,8 @@ def _check(y, fp, worst, where):
         finite &= np.isfinite(y[i])
     if not finite:
         return STATUS_NONFINITE, -1, np.nan
-    eps = worst / fp[1] - 1.0
-    if eps > fp[23]:
+    eps = worst / fp[FP_L0] - 1.0
+    if eps > fp[FP_STRAIN_LIMIT]:
         return STATUS_STRAIN, where, eps
     return STATUS_OK, where, eps
 
@@ -657,7 +722,7 @@ def run_rk4(y0, t0, dt, n_steps, rec_every, mdl):
     yt = np.empty(n)
     dy = np.empty(n)
     c_stage = np.array([0.0, 0.5, 0.5, 1.0])
-    moving = ip[12] == 1
+    moving = ip[IP_MOVING] == 1
     y_rec[0] = y
     t_rec[0] = t0
     n_rec = 1
@@ -686,7 +751,7 @@ def run_rk4(y0, t0, dt, n_steps, rec_every, mdl):
             break
         for i in range(n):
             y[i] += dt / 6.0 * (k[0, i] + 2.0 * k[1, i] + 2.0 * k[2, i] + k[3, i])
-        if ip[5] == 2:
+        if ip[IP_END_KIND] == 2:
             _renormalize(y, ip)
     return t_rec, y_rec, n_rec, STATUS_OK, t0 + n_steps * dt, -1, 0.0
 
@@ -712,7 +777,7 @@ def run_verlet(y0, t0, dt, n_steps, rec_every, mdl):
     """
     (ip, fp, k_band, g_op, gload, kin_idx, kin_pos, kin_vel, kin_acc, pi_m, pi_inv, rho_c,
      x, v, f, a_k, vec, mat, z_cols, z_vals, zt_cols, zt_vals, h_op, w_last, q, spline, gq) = mdl
-    nq = ip[13]
+    nq = ip[IP_N_Q]
     n = y0.size
     base = 6 * nq
     n_rec_max = n_steps // rec_every + 1
@@ -723,7 +788,7 @@ def run_verlet(y0, t0, dt, n_steps, rec_every, mdl):
     y_rec[0] = y
     t_rec[0] = t0
     n_rec = 1
-    moving = ip[12] == 1
+    moving = ip[IP_MOVING] == 1
     for s in range(n_steps + 1):
         t = t0 + s * dt
         if moving:
@@ -747,7 +812,7 @@ def run_verlet(y0, t0, dt, n_steps, rec_every, mdl):
             y[base + i] += 0.5 * dt * dy[base + i]
         for i in range(3 * nq):
             y[i] += dt * y[3 * nq + i]
-        if ip[5] == 2:
+        if ip[IP_END_KIND] == 2:
             rot = _rotation_step(y[base + 3:base + 12].reshape((3, 3)).copy(), y[base:base + 3], dt)
             for r in range(3):
                 for c in range(3):
@@ -760,23 +825,26 @@ def generalized_forces(t, y, mdl):
     """Generalised forces Z^T F_f (gravity + elastic + drag) of state y, as the right-hand
     side uses them; for linear elements the free nodes' forces. For tests."""
     _kinematic_of_model(t, mdl)
-    if mdl[0][0] == 1:
-        _nodal_model_forces(y, mdl[0], mdl[1], mdl[4], mdl[12], mdl[13], mdl[14], mdl[24])
+    if mdl[MDL_IP][IP_ELEMENT] == 1:
+        _nodal_model_forces(y, mdl[MDL_IP], mdl[MDL_FP], mdl[MDL_GLOAD], mdl[MDL_X], mdl[MDL_V], mdl[MDL_F],
+                            mdl[MDL_Q])
     else:
-        _spline_model_forces(y, mdl[0], mdl[1], mdl[5], mdl[12], mdl[13], mdl[14], mdl[18], mdl[19], mdl[20],
-                             mdl[21], mdl[22], mdl[24], mdl[25], mdl[26])
-    return mdl[24].copy()
+        _spline_model_forces(y, mdl[MDL_IP], mdl[MDL_FP], mdl[MDL_KIN_IDX], mdl[MDL_X], mdl[MDL_V], mdl[MDL_F],
+                             mdl[MDL_Z_COLS], mdl[MDL_Z_VALS], mdl[MDL_ZT_COLS], mdl[MDL_ZT_VALS], mdl[MDL_H_OP],
+                             mdl[MDL_Q], mdl[MDL_SPLINE], mdl[MDL_GQ])
+    return mdl[MDL_Q].copy()
 
 
 @njit(cache=True)
 def unpack_all(t_rec, y_rec, mdl):
     """Node positions and velocities (n, n_all, 3) of recorded states, kinematic ends filled in."""
-    n_all = mdl[0][1]
+    n_all = mdl[MDL_IP][IP_N_ALL]
     xs = np.empty((t_rec.size, n_all, 3))
     vs = np.empty((t_rec.size, n_all, 3))
     for r in range(t_rec.size):
         _kinematic_of_model(t_rec[r], mdl)
-        _unpack(y_rec[r], mdl[0], mdl[12], mdl[13], True, mdl[18], mdl[19], mdl[22], mdl[5])
-        xs[r] = mdl[12]
-        vs[r] = mdl[13]
+        _unpack(y_rec[r], mdl[MDL_IP], mdl[MDL_X], mdl[MDL_V], True, mdl[MDL_Z_COLS], mdl[MDL_Z_VALS],
+                mdl[MDL_H_OP], mdl[MDL_KIN_IDX])
+        xs[r] = mdl[MDL_X]
+        vs[r] = mdl[MDL_V]
     return xs, vs

@@ -7,7 +7,7 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.linalg
 
-from tether_dynamics.fem import constraints, elements_linear, elements_quadratic
+from tether_dynamics.fem import constraints, elements_linear, elements_quadratic, kernels
 from tether_dynamics.fem.effects import Drag, KelvinVoigt, Wind
 from tether_dynamics.fem.end_bodies import FarEnd, Pinned, PointMass, PrescribedMotion, RigidBody, StartEnd
 from tether_dynamics.fem.errors import FemError
@@ -188,23 +188,27 @@ def compile_scene(scene: Scene, t0: float = 0.0, t1: float = 0.0, sample_dt: flo
     k_band = constraints.banded_cholesky(k_red, int(np.max(rows - cols)))
     g_op = -np.linalg.solve(k_red, z.T @ (m_ff @ h + m_fk))
     w_last = np.linalg.solve(k_red, z[-1])
-    ip = np.array([1 if tet.element == 'linear' else 2, n_all, tet.n_elem, free[0], free[-1] + 1,
-                   end_kind, kv is not None, drag is not None, wind is not None, len(kin_idx), n_s,
-                   tet.tension_only, any(isinstance(e, PrescribedMotion) for e, _ in kinematic_ends), z.shape[1]],
-                  np.int64)
-    wind_u = np.asarray(wind.velocity, float) if wind else np.zeros(3)
-    fp = np.array([tet.ea, l0, tet.mu, *grav, mass, kv.coefficient if kv else 0.0,
-                   drag.air_density if drag else 0.0, drag.cd_normal if drag else 0.0,
-                   drag.cd_tangential if drag else 0.0, drag.diameter if drag else 0.0,
-                   *wind_u, wind.z_ref if wind else 1.0, wind.alpha if wind else 0.0,
-                   wind.z_ground if wind else 0.0, t0, sample_dt, *force, scene.strain_limit, z[-1] @ w_last])
+    ip = kernels.pack_ip(
+        element=1 if tet.element == 'linear' else 2, n_all=n_all, n_elem=tet.n_elem, free_first=free[0],
+        free_end=free[-1] + 1, end_kind=end_kind, kv_on=kv is not None, drag_on=drag is not None,
+        wind_on=wind is not None, n_kin=len(kin_idx), n_samples=n_s, tension_only=tet.tension_only,
+        moving=any(isinstance(e, PrescribedMotion) for e, _ in kinematic_ends), n_q=z.shape[1])
+    fp = kernels.pack_fp(
+        ea=tet.ea, l0=l0, mu=tet.mu, gravity=grav, end_mass=mass, kv_c=kv.coefficient if kv else 0.0,
+        air_density=drag.air_density if drag else 0.0, cd_normal=drag.cd_normal if drag else 0.0,
+        cd_tangential=drag.cd_tangential if drag else 0.0, diameter=drag.diameter if drag else 0.0,
+        wind_u=wind.velocity if wind else np.zeros(3), wind_z_ref=wind.z_ref if wind else 1.0,
+        wind_alpha=wind.alpha if wind else 0.0, wind_z_ground=wind.z_ground if wind else 0.0,
+        table_t0=t0, table_dt=sample_dt, end_force=force, strain_limit=scene.strain_limit,
+        c_last=z[-1] @ w_last)
     x_work, v_work = np.array(nodes), np.zeros((n_all, 3))
     v_work[kin_idx] = vel[:, 0]
-    work = (x_work, v_work, np.zeros((n_all, 3)), np.zeros((len(kin_idx), 3)),
-            np.zeros((9, 3)), np.zeros((3, 3, 3)))
-    mdl = (ip, fp, k_band, np.ascontiguousarray(g_op), gload, kin_idx, pos, vel, acc,
-           pi_m, np.ascontiguousarray(scipy.linalg.inv(pi_m)), rho_c, *work, z_cols, z_vals, zt_cols, zt_vals,
-           np.ascontiguousarray(h), w_last, np.zeros((z.shape[1], 3)), spline, gq)
+    mdl = kernels.pack_mdl(
+        ip=ip, fp=fp, k_band=k_band, g_op=np.ascontiguousarray(g_op), gload=gload, kin_idx=kin_idx, kin_pos=pos,
+        kin_vel=vel, kin_acc=acc, pi_m=pi_m, pi_inv=np.ascontiguousarray(scipy.linalg.inv(pi_m)), rho_c=rho_c,
+        x=x_work, v=v_work, f=np.zeros((n_all, 3)), a_k=np.zeros((len(kin_idx), 3)), vec=np.zeros((9, 3)),
+        mat=np.zeros((3, 3, 3)), z_cols=z_cols, z_vals=z_vals, zt_cols=zt_cols, zt_vals=zt_vals,
+        h_op=np.ascontiguousarray(h), w_last=w_last, q=np.zeros((z.shape[1], 3)), spline=spline, gq=gq)
     v_init = np.zeros((n_all, 3)) if scene.velocities is None else np.array(scene.velocities, float)
     p0, resid_x = _coordinates(z, nodes[free] - h @ nodes[kin_idx])
     pd0, _ = _coordinates(z, v_init[free] - h @ vel[:, 0])

@@ -31,7 +31,7 @@ def _parser() -> OneLineParser:
 
 
 def _pendulum(args: argparse.Namespace) -> str:
-    from tether_dynamics.fem import pendulum  # noqa: PLC0415 - keeps --help fast
+    from tether_dynamics.commands import pendulum  # noqa: PLC0415 - keeps --help fast
     from tether_dynamics.fem.integrators import warm_up  # noqa: PLC0415
 
     elements = [e.strip() for e in args.elements.split(',') if e.strip()]

@@ -10,7 +10,7 @@ mpl.use('Agg')
 import matplotlib.pyplot as plt
 import numpy as np
 
-from tether_dynamics import catenary, flying_space, heave_robustness, reference_length
+from tether_dynamics.statics import catenary, flying_space, heave_robustness, reference_length
 
 if TYPE_CHECKING:
     from pathlib import Path

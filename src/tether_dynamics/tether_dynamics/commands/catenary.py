@@ -24,13 +24,8 @@ import numpy as np
 from tether_common.command_line import OneLineParser
 from tether_common.command_line import UsageError
 from tether_common.command_line import run_analysis
-from tether_dynamics import (
-    catenary,
-    catenary_plots,
-    flying_space,
-    heave_robustness,
-    reference_length,
-)
+from tether_dynamics.commands import catenary_plots
+from tether_dynamics.statics import catenary, flying_space, heave_robustness, reference_length
 
 PROG = 'tethersim catenary'
 QUICK_STEP = 2.5

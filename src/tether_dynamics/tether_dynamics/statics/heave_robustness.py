@@ -27,7 +27,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.optimize import brentq
 
-from tether_dynamics import catenary
+from tether_dynamics.statics import catenary
 
 _BISECTIONS = 64
 

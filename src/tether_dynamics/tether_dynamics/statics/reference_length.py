@@ -41,7 +41,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from tether_dynamics import heave_robustness
+from tether_dynamics.statics import heave_robustness
 
 POLY3 = (0.9964, 0.1514, 0.4674, -0.1280)
 """Eq. 4.4 coefficients c1..c4 (Table 3.2, row L_rob5)."""

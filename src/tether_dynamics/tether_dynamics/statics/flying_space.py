@@ -25,7 +25,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from tether_dynamics import catenary, heave_robustness
+from tether_dynamics.statics import catenary, heave_robustness
 
 RISES = (0.05, 0.10, 0.20)
 """Tension rises over the slack tension that define L_rob5, L_rob10, L_rob20."""
