@@ -1,0 +1,228 @@
+"""The stepping object of the tether plant: ``TetherPlant(config).step(t, inputs) -> PlantOutputs``."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from tether_dynamics.plant import bodies, quasi_static
+from tether_dynamics.plant.config import PlantConfig, PlantConfigError
+from tether_dynamics.plant.ends import Sample, hermite, hermite_table, point_on_body, quaternion_rotation
+from tether_dynamics.plant.io import PlantInputs, PlantOutputs
+
+
+class PlantStepError(ValueError):
+    """A step that cannot be taken (time going backwards, bad input); the message says why."""
+
+
+def _finite(name: str, value: object, shape: tuple[int, ...]) -> np.ndarray:
+    arr = np.asarray(value, float)
+    if arr.shape != shape or not np.all(np.isfinite(arr)):
+        msg = f'input {name} must be finite with shape {shape}, got {value!r}'
+        raise PlantStepError(msg)
+    return arr
+
+
+class TetherPlant:
+    """The tether between the guide way on the platform and the UAV, with the winch.
+
+    See the package docstring for the contract. One object per run; ``step`` is called
+    with increasing times; the first call sets the initial state (tether at rest in the
+    elastic catenary of ``config.initial_length``) and advances nothing.
+    """
+
+    def __init__(self, config: PlantConfig) -> None:
+        self.config = config
+        cfg = config
+        self._rp = np.array([cfg.reel.spool_radius, cfg.reel.inertia, cfg.reel.viscous_friction,
+                             cfg.mass_per_length, cfg.reel.total_length, cfg.reel.min_length,
+                             cfg.reel.max_length])
+        self._rs = np.zeros(6)
+        self._rs[bodies.RS_LENGTH] = cfg.initial_length
+        self._body = np.zeros(bodies.BS_SIZE)
+        self._inertia = np.asarray(cfg.uav.inertia, float)
+        self._inertia_inv = np.linalg.inv(self._inertia)
+        self._rho = np.asarray(cfg.uav.attach_offset, float)
+        self._offset = np.asarray(cfg.guide_way_offset, float)
+        self._t: float | None = None
+        self._guide: Sample | None = None
+        self._uav: Sample | None = None
+        self._command = 0.0
+        self._thrust = 0.0
+        self._torque = np.zeros(3)
+        self._nodes_prev: np.ndarray | None = None
+        self._fem = None
+        if cfg.fidelity != 'quasi_static':
+            msg = f"fidelity {cfg.fidelity!r}: the finite-element moving reel is not in this version; use 'quasi_static'"
+            raise PlantConfigError(msg)
+
+    # ----------------------------------------------------------------- inputs
+    def _samples(self, t: float, inputs: PlantInputs) -> tuple[Sample, Sample | None, float]:
+        """Guide way and (prescribed) UAV attachment point at t, and the platform's height."""
+        rot = quaternion_rotation(inputs.platform_quaternion, 'platform_quaternion')
+        pos = _finite('platform_position', inputs.platform_position, (3,))
+        vel = _finite('platform_velocity', inputs.platform_velocity, (3,))
+        omega = _finite('platform_angular_velocity', inputs.platform_angular_velocity, (3,))
+        gp, gv = point_on_body(pos, rot, vel, omega, self._offset)
+        uav = None
+        if self.config.uav.mode == 'prescribed' or self._t is None:
+            urot = quaternion_rotation(inputs.uav_quaternion, 'uav_quaternion')
+            upos = _finite('uav_position', inputs.uav_position, (3,))
+            uvel = _finite('uav_velocity', inputs.uav_velocity, (3,))
+            uom = urot.apply(_finite('uav_angular_velocity', inputs.uav_angular_velocity, (3,)))
+            ap, av = point_on_body(upos, urot, uvel, uom, self._rho)
+            uav = Sample(t, ap, av)
+            if self._t is None:
+                self._body[bodies.BS_POS:bodies.BS_POS + 3] = upos
+                self._body[bodies.BS_VEL:bodies.BS_VEL + 3] = uvel
+                self._body[bodies.BS_QUAT:bodies.BS_QUAT + 4] = urot.as_quat()
+                self._body[bodies.BS_OMEGA:bodies.BS_OMEGA + 3] = inputs.uav_angular_velocity
+        return Sample(t, gp, gv), uav, float(pos[2])
+
+    def _hold_commands(self, inputs: PlantInputs) -> None:
+        cfg = self.config
+        value = inputs.reel_torque if cfg.reel.input == 'torque' else inputs.spool_rate
+        if not math.isfinite(value):
+            msg = f'input {"reel_torque" if cfg.reel.input == "torque" else "spool_rate"} must be finite, got {value!r}'
+            raise PlantStepError(msg)
+        self._command = float(value)
+        self._thrust = float(_finite('uav_thrust', inputs.uav_thrust, ()))
+        self._torque = _finite('uav_torque', inputs.uav_torque, (3,)).copy()
+
+    def _attach(self) -> tuple[np.ndarray, np.ndarray]:
+        pos, vel = np.empty(3), np.empty(3)
+        bodies.body_attach(self._body, self._rho, pos, vel)
+        return pos, vel
+
+    # ------------------------------------------------------------------ step
+    def step(self, t: float, inputs: PlantInputs) -> PlantOutputs:
+        """Advance to time t (s) with the kinematic samples at t; apply the commands from t on."""
+        if not math.isfinite(t):
+            msg = f'time must be finite, got {t!r}'
+            raise PlantStepError(msg)
+        if self._t is not None and t < self._t:
+            msg = f'time went backwards: {t} s after {self._t} s'
+            raise PlantStepError(msg)
+        guide, uav, deck = self._samples(t, inputs)
+        if self._t is None:
+            self._t = t
+            self._guide, self._uav = guide, uav
+            if self._fem is not None:
+                end = uav.position if uav is not None else self._attach()[0]
+                self._fem.initialise(guide.position, end, self._rs[bodies.RS_LENGTH])
+        elif t > self._t:
+            self._advance(self._t, t, guide, uav)
+            self._t = t
+            self._guide = guide
+            if uav is not None:
+                self._uav = uav
+        self._hold_commands(inputs)
+        return self._outputs(t, inputs, deck)
+
+    def _advance(self, t_a: float, t_b: float, guide: Sample, uav: Sample | None) -> None:
+        cfg = self.config
+        n_sub = max(1, int(math.ceil((t_b - t_a) / cfg.dt - 1e-9)))
+        dt = (t_b - t_a) / n_sub
+        g_tab = hermite_table(self._guide, guide)
+        u_tab = hermite_table(self._uav, uav) if uav is not None else None
+        torque_input = cfg.reel.input == 'torque'
+        if self._fem is not None:
+            self._fem.advance(t_a, t_b, n_sub, g_tab, u_tab, self._rs, self._rp, torque_input, self._command,
+                              self._body, self._thrust, self._torque)
+            return
+        for k in range(1, n_sub + 1):
+            t_k = t_a + k * dt
+            a, _ = hermite(g_tab, t_a, t_b, t_k - dt)
+            b = hermite(u_tab, t_a, t_b, t_k - dt)[0] if u_tab is not None else self._attach()[0]
+            t_a, t_b, tangent_b = quasi_static.end_tensions(a, b, self._rs[bodies.RS_LENGTH], cfg.mass_per_length,
+                                                            cfg.ea, cfg.gravity)
+            bodies.reel_step(self._rs, self._rp, torque_input, self._command, t_a, dt)
+            if u_tab is None:
+                force = -t_b * tangent_b
+                bodies.body_step(self._body, cfg.uav.mass, self._inertia, self._inertia_inv, self._rho,
+                                 self._thrust, self._torque, force, cfg.gravity, dt)
+
+    # --------------------------------------------------------------- outputs
+    def _uav_state(self) -> tuple[np.ndarray, ...]:
+        b = self._body
+        return (b[bodies.BS_POS:bodies.BS_POS + 3].copy(), b[bodies.BS_VEL:bodies.BS_VEL + 3].copy(),
+                b[bodies.BS_ACC:bodies.BS_ACC + 3].copy(), b[bodies.BS_QUAT:bodies.BS_QUAT + 4].copy(),
+                b[bodies.BS_OMEGA:bodies.BS_OMEGA + 3].copy())
+
+    def _outputs(self, t: float, inputs: PlantInputs, deck: float) -> PlantOutputs:
+        cfg = self.config
+        if cfg.uav.mode == 'prescribed':
+            rot = quaternion_rotation(inputs.uav_quaternion, 'uav_quaternion')
+            upos, uvel = np.asarray(inputs.uav_position, float), np.asarray(inputs.uav_velocity, float)
+            uacc, uquat = np.zeros(3), rot.as_quat()
+            uom = np.asarray(inputs.uav_angular_velocity, float)
+            end = self._uav.position
+        else:
+            upos, uvel, uacc, uquat, uom = self._uav_state()
+            end = self._attach()[0]
+        a = self._guide.position
+        length = float(self._rs[bodies.RS_LENGTH])
+        mu, g = cfg.mass_per_length, cfg.gravity
+        if self._fem is None:
+            shape = quasi_static.solve(a, end, length, mu, cfg.ea, g)
+            n = cfg.elements + 1
+            nodes = shape.points(a, n)
+            dt_out = t - getattr(self, '_t_nodes', t)
+            vel = ((nodes - self._nodes_prev) / dt_out if self._nodes_prev is not None and dt_out > 0
+                   else np.zeros_like(nodes))
+            self._nodes_prev, self._t_nodes = nodes, t
+            arc = np.linspace(0.0, length, n)
+            sol = shape.solution
+            h_t = float(sol.horizontal_tension) if math.isfinite(float(sol.horizontal_tension)) else 0.0
+            v_a = shape.tension_a * math.sin(float(sol.alpha))
+            s_mid = 0.5 * (arc[1:] + arc[:-1])
+            tensions = np.sqrt(h_t**2 + (v_a + mu * g * s_mid) ** 2)
+            t_a, t_b = shape.tension_a, shape.tension_b
+            f_reel = t_a * shape.tangent_a()
+            f_uav = -t_b * shape.tangent_b()
+            alpha, beta = float(sol.alpha), float(sol.beta)
+            lowest = shape.lowest_point(a)
+            element_rest = np.diff(arc)
+        else:
+            fem = self._fem
+            nodes, vel, tensions, arc = fem.nodes(), fem.velocities(), fem.tensions(), fem.arc_length()
+            element_rest = np.diff(arc)
+            e_a = nodes[1] - nodes[0]
+            e_b = nodes[-1] - nodes[-2]
+            e_a /= max(np.linalg.norm(e_a), 1e-300)
+            e_b /= max(np.linalg.norm(e_b), 1e-300)
+            t_a, t_b = float(tensions[0]), float(tensions[-1])
+            f_reel, f_uav = t_a * e_a, -t_b * e_b
+            alpha = math.atan2(e_a[2], math.hypot(e_a[0], e_a[1]))
+            beta = math.atan2(e_b[2], math.hypot(e_b[0], e_b[1]))
+            lowest = fem.lowest_point()
+        lumps = np.zeros(len(nodes))
+        lumps[:-1] += 0.5 * mu * element_rest
+        lumps[1:] += 0.5 * mu * element_rest
+        kinetic = 0.5 * float(np.sum(lumps * np.sum(vel * vel, axis=1)))
+        potential = g * float(np.sum(lumps * nodes[:, 2]))
+        strain = float(np.sum(tensions**2 * element_rest / (2.0 * cfg.ea)))
+        moment = np.cross(end - upos, f_uav)
+        sea = float(inputs.sea_surface_height)
+        return PlantOutputs(
+            t=t, fidelity=cfg.fidelity, element_count=len(nodes) - 1, reel_end=a.copy(), uav_end=end.copy(),
+            deployed_length=length, payout_rate=cfg.reel.spool_radius * float(self._rs[bodies.RS_RATE]),
+            spool_angle=float(self._rs[bodies.RS_ANGLE]), spool_rate=float(self._rs[bodies.RS_RATE]),
+            reel_torque=float(self._rs[bodies.RS_TORQUE]), at_stop=bool(self._rs[bodies.RS_STOP]),
+            tension_reel=t_a, tension_uav=t_b, force_on_reel=f_reel, force_on_uav=f_uav, moment_on_uav=moment,
+            departure_angle=alpha, arrival_angle=beta, lowest_point=lowest,
+            clearance_deck=float(lowest[2] - deck), clearance_sea=float(lowest[2] - sea),
+            fouling=bool(lowest[2] <= sea), kinetic_energy=kinetic, potential_energy=potential,
+            strain_energy=strain, reel_work=float(self._rs[bodies.RS_WORK]),
+            total_tether_mass=self.total_tether_mass(), nodes=nodes, velocities=vel, tensions=tensions,
+            arc_length=arc, max_strain=float(np.max(tensions)) / cfg.ea, uav_position=upos, uav_velocity=uvel,
+            uav_acceleration=uacc, uav_quaternion=uquat, uav_angular_velocity=uom)
+
+    def total_tether_mass(self) -> float:
+        """Drum + deployed tether mass, kg: mu (total - L) + sum of the elements' rest masses."""
+        mu = self.config.mass_per_length
+        drum = mu * (self.config.reel.total_length - float(self._rs[bodies.RS_LENGTH]))
+        deployed = mu * (self._fem.deployed_rest_length() if self._fem is not None
+                         else float(self._rs[bodies.RS_LENGTH]))
+        return drum + deployed
