@@ -4,7 +4,7 @@ Catenary-model controller (Fig. 4.2). Every 20 ms (50 Hz):
 
 1. the reference length ``L_ref`` from the relative position, Δz every tick and the
    radial distance Δr as last sampled at 4 Hz (:class:`SampleHold`), through the project's
-   one reference-length model (:func:`tether_dynamics.reference_length.reference_length`,
+   one reference-length model (:func:`tether_dynamics.statics.reference_length.reference_length`,
    Eq. 4.4/4.5 with its blend and safeguards, or the exact heave-robust length);
 2. the gain-scheduled low-pass filter of Eq. 4.1 (:mod:`smart_reel.scheduler`);
 3. the error ``e_k = L_k - L^LP_ref,k`` of the encoder's length against it;
@@ -27,7 +27,7 @@ from dataclasses import dataclass
 
 from smart_reel.scheduler import LowPass
 from smart_reel.scheduler import SchmittScheduler
-from tether_dynamics.reference_length import reference_length
+from tether_dynamics.statics.reference_length import reference_length
 
 
 class SampleHold:

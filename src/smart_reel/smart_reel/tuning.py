@@ -15,7 +15,7 @@ The procedure, reproducible by the command:
    simulated with :class:`~smart_reel.reel.ReelCore` exactly as the node runs it (winch
    with friction and stiction, encoder, 4 Hz radial distance, scheduled filter, one-step
    input delay) against the quasi-static catenary tension of the tether
-   (:mod:`tether_dynamics.catenary`).
+   (:mod:`tether_dynamics.statics.catenary`).
 4. **Search:** Nelder-Mead over ``(log K_p, log K_d)`` from the gains that put the crossover
    at a tenth of the sampling frequency, constraints as penalties.
 5. **Check** on the held-out HPR 3 profile, reported beside the tuning result.
@@ -41,9 +41,9 @@ from smart_reel.reel import ReelInputs
 from smart_reel.reel import build_core
 from smart_reel.reel_params import PARAMETERS
 from tether_common.command_line import positive
-from tether_dynamics.catenary import GRAVITY
-from tether_dynamics.catenary import tension_b_point
-from tether_dynamics.reference_length import reference_length
+from tether_dynamics.statics.catenary import GRAVITY
+from tether_dynamics.statics.catenary import tension_b_point
+from tether_dynamics.statics.reference_length import reference_length
 
 MIN_PHASE_MARGIN = 45.0
 """deg, of the sampled linear loop."""

@@ -15,7 +15,7 @@ from smart_reel.tuning import default_parameters
 from smart_reel.tuning import design_plant
 from smart_reel.tuning import loop_margins
 from smart_reel.tuning import step_metrics
-from tether_dynamics.reference_length import reference_length
+from tether_dynamics.statics.reference_length import reference_length
 
 STEP_OVERSHOOT = 0.10
 """Stated: at most 10 % overshoot on a 0.1 m reference step."""
