@@ -19,6 +19,7 @@ setup(
     extras_require={'test': ['pytest']},
     entry_points={
         'console_scripts': [
+            'plant = tether_dynamics.plant_node:main',
         ],
     },
 )

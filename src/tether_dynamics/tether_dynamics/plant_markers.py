@@ -1,0 +1,112 @@
+"""The 3-D view of the plant as a visualization_msgs/MarkerArray (no rclpy import).
+
+Every marker is in frame ``world`` with the plant step's stamp, so Foxglove and RViz show
+the scene without any transform: Foxglove's 3-D panel registers each marker's
+``header.frame_id`` as a coordinate frame when the message arrives (its renderer scrapes
+``markers[].header.frame_id``), picks a root frame as the display frame, and places a marker
+whose frame is the display frame with the identity; a marker in ``boat`` or ``uav`` would
+need a transform path to the display frame at the marker's ``header.stamp``, which nobody
+publishes. Markers keep their namespace and id from message to message and have no lifetime,
+so each new array replaces the previous shapes.
+
+Namespaces: ``tether`` (line through the nodes), ``reference`` (the catenary of the
+reference length between the same ends, Eq. 3.2 with Eq. 4.4/4.5), ``reel`` (drum at the
+guide way), ``platform`` (deck plate at the reel mount, in the boat's attitude), ``uav``
+(attachment point), ``lowest_point`` (red when the tether fouls).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from builtin_interfaces.msg import Time
+from geometry_msgs.msg import Point
+from visualization_msgs.msg import Marker
+from visualization_msgs.msg import MarkerArray
+
+from tether_dynamics.catenary import solve
+from tether_dynamics.reference_length import reference_length
+
+FRAME = 'world'
+REFERENCE_POINTS = 41
+COLORS = {
+    'tether': (1.0, 0.55, 0.0, 1.0),
+    'reference': (0.2, 0.8, 0.3, 0.7),
+    'reel': (0.3, 0.3, 0.35, 1.0),
+    'platform': (0.6, 0.6, 0.65, 0.9),
+    'uav': (0.1, 0.4, 0.9, 1.0),
+    'lowest_point': (1.0, 0.9, 0.1, 1.0),
+    'fouling': (0.9, 0.1, 0.1, 1.0),
+}
+
+
+def reference_shape(guide_way: np.ndarray, uav: np.ndarray, n: int = REFERENCE_POINTS) -> np.ndarray:
+    """Return ``(n, 3)`` points of the catenary of the reference length from guide way to UAV (world, m).
+
+    The catenary hangs in the vertical plane through both ends (Eq. 3.2); for a UAV right
+    above the guide way that plane is world x-z. A UAV level with or below the guide way has
+    the chord as its reference length (see :func:`tether_dynamics.reference_length.reference_length`).
+    """
+    d = np.asarray(uav, dtype=float) - np.asarray(guide_way, dtype=float)
+    dr = float(np.hypot(d[0], d[1]))
+    length = reference_length(dr, float(d[2])).length
+    r, z = solve(dr, float(d[2]), length).shape(n)
+    horizontal = d[:2] / dr if dr > 0.0 else np.array([1.0, 0.0])
+    points = np.empty((n, 3))
+    points[:, 0] = guide_way[0] + r * horizontal[0]
+    points[:, 1] = guide_way[1] + r * horizontal[1]
+    points[:, 2] = guide_way[2] + z
+    return points
+
+
+def _marker(stamp: Time, ns: str, kind: int, color: tuple[float, float, float, float]) -> Marker:
+    marker = Marker()
+    marker.header.stamp = stamp
+    marker.header.frame_id = FRAME
+    marker.ns = ns
+    marker.id = 0
+    marker.type = kind
+    marker.action = Marker.ADD
+    marker.pose.orientation.w = 1.0
+    marker.color.r, marker.color.g, marker.color.b, marker.color.a = color
+    return marker
+
+
+def _points(array: np.ndarray) -> list[Point]:
+    return [Point(x=float(p[0]), y=float(p[1]), z=float(p[2])) for p in array]
+
+
+def _place(marker: Marker, position: np.ndarray, quaternion: np.ndarray, scale: tuple[float, float, float]) -> None:
+    marker.pose.position.x, marker.pose.position.y, marker.pose.position.z = (float(v) for v in position)
+    q = marker.pose.orientation
+    q.x, q.y, q.z, q.w = (float(v) for v in quaternion)
+    marker.scale.x, marker.scale.y, marker.scale.z = scale
+
+
+def scene_markers(stamp: Time, nodes: np.ndarray, reel_mount: np.ndarray, boat_quaternion: np.ndarray,
+                  guide_way: np.ndarray, uav: np.ndarray, lowest_point: np.ndarray, fouling: bool) -> MarkerArray:
+    """Build the scene's markers for one plant step.
+
+    Args:
+        stamp: the plant step's sim time.
+        nodes: ``(n, 3)`` tether points from the reel end to the UAV end, world (m).
+        reel_mount: reel mount position (/platform/reel_pose), world (m).
+        boat_quaternion: attitude of ``boat`` in ``world`` (x, y, z, w).
+        guide_way, uav: tether ends, world (m).
+        lowest_point: lowest point of the tether, world (m).
+        fouling: the plant's fouling flag (colours the lowest point red).
+    """
+    tether = _marker(stamp, 'tether', Marker.LINE_STRIP, COLORS['tether'])
+    tether.scale.x = 0.03
+    tether.points = _points(nodes)
+    reference = _marker(stamp, 'reference', Marker.LINE_STRIP, COLORS['reference'])
+    reference.scale.x = 0.015
+    reference.points = _points(reference_shape(guide_way, uav))
+    reel = _marker(stamp, 'reel', Marker.CYLINDER, COLORS['reel'])
+    _place(reel, guide_way, boat_quaternion, (0.25, 0.25, 0.12))
+    platform = _marker(stamp, 'platform', Marker.CUBE, COLORS['platform'])
+    _place(platform, reel_mount, boat_quaternion, (0.46, 0.40, 0.03))
+    drone = _marker(stamp, 'uav', Marker.SPHERE, COLORS['uav'])
+    _place(drone, uav, np.array([0.0, 0.0, 0.0, 1.0]), (0.3, 0.3, 0.12))
+    lowest = _marker(stamp, 'lowest_point', Marker.SPHERE, COLORS['fouling' if fouling else 'lowest_point'])
+    _place(lowest, lowest_point, np.array([0.0, 0.0, 0.0, 1.0]), (0.08, 0.08, 0.08))
+    return MarkerArray(markers=[tether, reference, reel, platform, drone, lowest])

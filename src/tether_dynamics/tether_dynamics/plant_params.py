@@ -1,0 +1,50 @@
+"""Parameters of the plant node (no rclpy import; the bringup validates scenes with them).
+
+Model fidelity, effects, element count, integration step and the publishing rates are
+scene parameters, so a run computes and publishes only what its scene asks for.
+"""
+
+from __future__ import annotations
+
+from tether_common.parameters import ParamSpec
+
+FIDELITIES = ('quasi_static', 'linear', 'quadratic')
+EFFECTS = ('drag', 'wind', 'damping')
+REEL_INPUTS = ('reference', 'command')
+UAV_SOURCES = ('fixed', 'topic')
+
+PARAMETERS: tuple[ParamSpec, ...] = (
+    ParamSpec('fidelity', 'quasi_static', 'tether model: quasi_static (catenary of the deployed length each '
+              'step), linear or quadratic finite elements (Ch. 8)', choices=FIDELITIES, read_only=True),
+    ParamSpec('elements', 20, 'number of finite elements (ignored by quasi_static)', low=1, high=400,
+              read_only=True),
+    ParamSpec('effects', [], 'effects on the tether: drag, wind, damping (Kelvin-Voigt); none when empty',
+              choices=EFFECTS, item_type=str, read_only=True),
+    ParamSpec('integration_step', 0.0005, 'integration step of the finite-element models', 's',
+              low=1e-6, high=0.1, read_only=True),
+    ParamSpec('state_rate', 100.0, 'plant output steps per second: /tether/state, /tether/uav_wrench, '
+              '/truth/relative each step', 'Hz', low=1.0, high=1000.0, read_only=True),
+    ParamSpec('nodes_rate', 10.0, 'rate of /tether/nodes (a divisor of state_rate)', 'Hz', low=0.1, high=1000.0,
+              read_only=True),
+    ParamSpec('markers_rate', 10.0, 'rate of /tether/markers (a divisor of state_rate)', 'Hz', low=0.1,
+              high=1000.0, read_only=True),
+    ParamSpec('linear_density', 0.042, 'tether linear density (Sec. 3.2.1)', 'kg/m', low=1e-4, high=10.0,
+              read_only=True),
+    ParamSpec('axial_stiffness', 2.0e4, 'tether axial stiffness EA', 'N', low=1.0, high=1e9, read_only=True),
+    ParamSpec('diameter', 0.0045, 'tether diameter (drag), 4.5 mm coax of Sec. 4.1', 'm', low=1e-4, high=0.1,
+              read_only=True),
+    ParamSpec('initial_length', 0.0, 'deployed length at start; 0: the catenary reference length of the '
+              'initial relative position', 'm', low=0.0, high=1000.0, read_only=True),
+    ParamSpec('guide_way_offset', [0.0, 0.0, 0.0], 'guide-way position from the reel mount '
+              '(/platform/reel_pose) in the FLU boat frame', 'm', read_only=True),
+    ParamSpec('reel_input', 'reference', 'what drives the spool: reference (a scripted reel: the deployed '
+              'length follows the catenary reference length of the true relative position, Eq. 4.4/4.5) or '
+              'command (/reel/command, from the smart reel)', choices=REEL_INPUTS, read_only=True),
+    ParamSpec('reference_gain', 5.0, 'scripted reel: payout rate per metre of length error, added to the '
+              "reference length's rate of change", '1/s', low=0.0, high=1000.0, read_only=True),
+    ParamSpec('uav_source', 'fixed', 'UAV attachment point: fixed (uav_position, a rigidly mounted surrogate '
+              'as in Sec. 5.1) or topic (/uav/pose, an external UAV)', choices=UAV_SOURCES, read_only=True),
+    ParamSpec('uav_position', [3.22, 0.0, 5.9], 'fixed UAV attachment point in world', 'm', read_only=True),
+    ParamSpec('sea_level', -1.5, 'mean sea level in world for the sea clearance of the lowest point', 'm',
+              low=-1000.0, high=1000.0, read_only=True),
+)
