@@ -4,8 +4,10 @@ A thin wrapper around :class:`psr_platform_sim.simulator.PlatformSimulator`: sim
 timers (:class:`tether_common.sim_timer.SimTimer`, one call per elapsed tick with the
 tick's own time) sample the precomputed motion and publish
 
-* ``/platform/state`` (tether_msgs/PlatformState) and ``/platform/reel_pose``
-  (geometry_msgs/PoseStamped, frame ``world``) at ``state_rate``,
+* ``/platform/state`` (tether_msgs/PlatformState), ``/platform/reel_pose``
+  (geometry_msgs/PoseStamped, frame ``world``) and ``/platform/reel_twist``
+  (geometry_msgs/TwistStamped, frame ``world``: the reel mount's velocity and the boat's
+  angular velocity, both in world axes) at ``state_rate``,
 * ``/platform/imu`` (sensor_msgs/Imu, frame ``boat``, FLU) at ``imu_rate``.
 
 Frames and angles follow REP-103 (see :mod:`psr_platform_sim.simulator`): ``world`` is
@@ -25,6 +27,7 @@ from __future__ import annotations
 import sys
 
 from geometry_msgs.msg import PoseStamped
+from geometry_msgs.msg import TwistStamped
 from rclpy.node import Node
 from rclpy.time import Time
 from sensor_msgs.msg import Imu
@@ -58,6 +61,7 @@ class PlatformNode(Node):
         self.accel_var = params['imu_accel_noise'] ** 2
         self.state_pub = self.create_publisher(PlatformState, '/platform/state', STATE)
         self.pose_pub = self.create_publisher(PoseStamped, '/platform/reel_pose', STATE)
+        self.twist_pub = self.create_publisher(TwistStamped, '/platform/reel_twist', STATE)
         self.imu_pub = self.create_publisher(Imu, '/platform/imu', SENSOR)
         self.state_timer = SimTimer(self, 1.0 / params['state_rate'], self.state_callback)
         self.imu_timer = SimTimer(self, 1.0 / params['imu_rate'], self.imu_callback)
@@ -71,7 +75,7 @@ class PlatformNode(Node):
             f'pitch {error["pitch"] * 57.2958:.3f} deg')
 
     def state_callback(self, tick: Time) -> None:
-        """Publish /platform/state and /platform/reel_pose for the tick's sim time."""
+        """Publish /platform/state, /platform/reel_pose and /platform/reel_twist for the tick's sim time."""
         s = self.sim.sample(tick.nanoseconds * 1e-9)
         stamp = tick.to_msg()
         msg = PlatformState()
@@ -94,6 +98,13 @@ class PlatformNode(Node):
         q = pose.pose.orientation
         q.x, q.y, q.z, q.w = (float(v) for v in s.quaternion)
         self.pose_pub.publish(pose)
+        twist = TwistStamped()
+        twist.header.stamp = stamp
+        twist.header.frame_id = 'world'
+        v, w = twist.twist.linear, twist.twist.angular
+        v.x, v.y, v.z = (float(c) for c in s.reel_velocity)
+        w.x, w.y, w.z = (float(c) for c in s.world_angular_velocity)
+        self.twist_pub.publish(twist)
 
     def imu_callback(self, tick: Time) -> None:
         """Publish /platform/imu: orientation (truth), noisy angular velocity and specific force."""

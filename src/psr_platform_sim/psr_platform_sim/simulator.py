@@ -104,6 +104,8 @@ class PlatformSample:
     in_workspace: bool
     angular_velocity: np.ndarray
     specific_force: np.ndarray
+    reel_velocity: np.ndarray
+    world_angular_velocity: np.ndarray
 
 
 class PlatformSimulator:
@@ -161,11 +163,13 @@ class PlatformSimulator:
         self.velocity = np.gradient(self.centre, 1.0 / self.rate, axis=0)
         self.reel_offset = np.asarray(p['reel_offset'], dtype=float)
         self.reel_position = self.centre + self.rotation @ self.reel_offset - self.reel_offset
+        self.reel_velocity = np.gradient(self.reel_position, 1.0 / self.rate, axis=0)
         # Body angular velocity from R^T dR/dt, specific force R^T (a + g z).
         rdot = np.gradient(self.rotation, 1.0 / self.rate, axis=0)
         omega = np.einsum('nki,nkj->nij', self.rotation, rdot)
         self.angular_velocity = 0.5 * np.stack([omega[:, 2, 1] - omega[:, 1, 2], omega[:, 0, 2] - omega[:, 2, 0],
                                                 omega[:, 1, 0] - omega[:, 0, 1]], axis=-1)
+        self.world_angular_velocity = np.einsum('nij,nj->ni', self.rotation, self.angular_velocity)
         accel = np.gradient(self.velocity, 1.0 / self.rate, axis=0) + np.array([0.0, 0.0, GRAVITY])
         self.specific_force = np.einsum('nki,nk->ni', self.rotation, accel)
 
@@ -194,7 +198,9 @@ class PlatformSimulator:
             commanded_pitch=float(np.interp(time, self.command_t, self.commanded_angles[:, 1])),
             in_workspace=bool(self.inside[c]),
             angular_velocity=zero3 if held else self.angular_velocity[i],
-            specific_force=np.array([0.0, 0.0, GRAVITY]) @ self.rotation[i] if held else self.specific_force[i])
+            specific_force=np.array([0.0, 0.0, GRAVITY]) @ self.rotation[i] if held else self.specific_force[i],
+            reel_velocity=zero3 if held else self.reel_velocity[i],
+            world_angular_velocity=zero3 if held else self.world_angular_velocity[i])
 
     def achieved_hrp(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """Achieved heave (m), roll and pitch (rad, Eq. 2.7-2.8) on the fine time grid."""

@@ -86,6 +86,20 @@ def test_published_angles_are_the_rep103_angles_of_the_quaternion(cache):
     assert np.degrees(np.sqrt(np.mean((angles[:, 1] + commanded[:, 1]) ** 2))) > 1.0  # the sign matters
 
 
+def test_reel_twist_moves_the_reel_pose_over_one_tick(cache):
+    """The reel mount's world velocity and the boat's world angular velocity carry each pose to the next."""
+    sim = PlatformSimulator(_params(cache, profile='hpr1', reel_offset=[0.3, -0.2, 0.1]))
+    dt = 1.0 / sim.rate
+    for t in (6.0, 9.0, 12.5):
+        now, later = sim.sample(t), sim.sample(t + dt)
+        step = now.reel_velocity * dt
+        assert np.linalg.norm(step) > 1e-4
+        np.testing.assert_allclose(later.position - now.position, step, rtol=0.0, atol=0.05 * np.linalg.norm(step))
+        turn = Rotation.from_quat(later.quaternion) * Rotation.from_quat(now.quaternion).inv()
+        np.testing.assert_allclose(turn.as_rotvec(), now.world_angular_velocity * dt, rtol=0.0,
+                                   atol=0.05 * np.linalg.norm(now.world_angular_velocity * dt))
+
+
 def test_boat_profile_roll_turns_the_platform_about_the_bow(cache, tmp_path):
     """The profile's roll is the boat's roll about its length; played, it turns ``boat`` about its x axis."""
     beam = boat_profile(4, 5.0, seed=4, duration=20.0, heading=np.radians(90.0))

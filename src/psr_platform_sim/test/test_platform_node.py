@@ -15,6 +15,7 @@ from scipy.spatial.transform import Rotation
 rclpy = pytest.importorskip('rclpy')
 
 from geometry_msgs.msg import PoseStamped  # noqa: E402
+from geometry_msgs.msg import TwistStamped  # noqa: E402
 from rosgraph_msgs.msg import Clock  # noqa: E402
 from sensor_msgs.msg import Imu  # noqa: E402
 from tether_msgs.msg import PlatformState  # noqa: E402
@@ -38,9 +39,10 @@ def test_node_publishes_on_sim_time(tmp_path):
     os.environ['ROS_DOMAIN_ID'] = env['ROS_DOMAIN_ID']
     rclpy.init()
     node = rclpy.create_node('probe')
-    got = {'state': [], 'pose': [], 'imu': []}
+    got = {'state': [], 'pose': [], 'twist': [], 'imu': []}
     node.create_subscription(PlatformState, '/platform/state', got['state'].append, STATE)
     node.create_subscription(PoseStamped, '/platform/reel_pose', got['pose'].append, STATE)
+    node.create_subscription(TwistStamped, '/platform/reel_twist', got['twist'].append, STATE)
     node.create_subscription(Imu, '/platform/imu', got['imu'].append, SENSOR)
     clock = node.create_publisher(Clock, '/clock', 10)
     try:
@@ -89,6 +91,13 @@ def test_node_publishes_on_sim_time(tmp_path):
         sample = sim.sample(m.header.stamp.sec + m.header.stamp.nanosec * 1e-9)
         np.testing.assert_allclose([sample.roll, sample.pitch, sample.yaw], angles, rtol=0.0, atol=1e-9)
     assert {m.header.frame_id for m in got['imu']} == {'boat'}
+    for m in got['twist']:
+        sample = sim.sample(m.header.stamp.sec + m.header.stamp.nanosec * 1e-9)
+        assert m.header.frame_id == 'world'
+        np.testing.assert_allclose([m.twist.linear.x, m.twist.linear.y, m.twist.linear.z], sample.reel_velocity,
+                                   rtol=0.0, atol=1e-12)
+        np.testing.assert_allclose([m.twist.angular.x, m.twist.angular.y, m.twist.angular.z],
+                                   sample.world_angular_velocity, rtol=0.0, atol=1e-12)
 
 
 def test_node_bad_profile_file_exits_2(tmp_path):
