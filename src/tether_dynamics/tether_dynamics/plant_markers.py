@@ -17,14 +17,18 @@ guide way), ``platform`` (deck plate at the reel mount, in the boat's attitude),
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 from builtin_interfaces.msg import Time
 from geometry_msgs.msg import Point
 from visualization_msgs.msg import Marker
 from visualization_msgs.msg import MarkerArray
 
-from tether_dynamics.catenary import solve
-from tether_dynamics.reference_length import reference_length
+from tether_dynamics.plant import quasi_static
+from tether_dynamics.statics.catenary import GRAVITY
+from tether_dynamics.statics.catenary import THESIS_LINEAR_DENSITY
+from tether_dynamics.statics.reference_length import reference_length
 
 FRAME = 'world'
 REFERENCE_POINTS = 41
@@ -42,20 +46,14 @@ COLORS = {
 def reference_shape(guide_way: np.ndarray, uav: np.ndarray, n: int = REFERENCE_POINTS) -> np.ndarray:
     """Return ``(n, 3)`` points of the catenary of the reference length from guide way to UAV (world, m).
 
-    The catenary hangs in the vertical plane through both ends (Eq. 3.2); for a UAV right
-    above the guide way that plane is world x-z. A UAV level with or below the guide way has
-    the chord as its reference length (see :func:`tether_dynamics.reference_length.reference_length`).
+    The reference length is that of the relative position (Eq. 4.4/4.5, with the safeguards of
+    :func:`tether_dynamics.statics.reference_length.reference_length`); its catenary (Eq. 3.2,
+    inextensible) hangs in the vertical plane through both ends.
     """
-    d = np.asarray(uav, dtype=float) - np.asarray(guide_way, dtype=float)
-    dr = float(np.hypot(d[0], d[1]))
-    length = reference_length(dr, float(d[2])).length
-    r, z = solve(dr, float(d[2]), length).shape(n)
-    horizontal = d[:2] / dr if dr > 0.0 else np.array([1.0, 0.0])
-    points = np.empty((n, 3))
-    points[:, 0] = guide_way[0] + r * horizontal[0]
-    points[:, 1] = guide_way[1] + r * horizontal[1]
-    points[:, 2] = guide_way[2] + z
-    return points
+    a, b = np.asarray(guide_way, dtype=float), np.asarray(uav, dtype=float)
+    d = b - a
+    length = reference_length(float(np.hypot(d[0], d[1])), float(d[2])).length
+    return quasi_static.solve(a, b, length, THESIS_LINEAR_DENSITY, math.inf, GRAVITY).points(a, n)
 
 
 def _marker(stamp: Time, ns: str, kind: int, color: tuple[float, float, float, float]) -> Marker:

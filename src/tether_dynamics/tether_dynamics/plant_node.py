@@ -27,7 +27,10 @@ from __future__ import annotations
 import sys
 
 import numpy as np
+from geometry_msgs.msg import Point
 from geometry_msgs.msg import PoseStamped
+from geometry_msgs.msg import TwistStamped
+from geometry_msgs.msg import Vector3
 from geometry_msgs.msg import WrenchStamped
 from rclpy.node import Node
 from rclpy.time import Time
@@ -44,9 +47,21 @@ from tether_common.qos import SENSOR
 from tether_common.qos import STATE
 from tether_common.ros_parameters import declare_parameters
 from tether_common.sim_timer import SimTimer
+from tether_dynamics.plant import PlantConfig
+from tether_dynamics.plant import PlantConfigError
+from tether_dynamics.plant import PlantInputs
+from tether_dynamics.plant import PlantOutputs
+from tether_dynamics.plant import PlantStepError
+from tether_dynamics.plant import ReelConfig
+from tether_dynamics.plant import TetherPlant
+from tether_dynamics.plant import UavConfig
+from tether_dynamics.plant.ends import point_on_body
+from tether_dynamics.plant.ends import quaternion_rotation
 from tether_dynamics.plant_markers import scene_markers
 from tether_dynamics.plant_params import PARAMETERS
 from tether_dynamics.scripted_reel import ScriptedReel
+from tether_dynamics.statics.catenary import GRAVITY
+from tether_dynamics.statics.reference_length import reference_length
 
 
 def _divisor(params: dict, name: str) -> int:
@@ -93,6 +108,30 @@ def _vector(v) -> np.ndarray:
     return np.array([v.x, v.y, v.z])
 
 
+def _quaternion(q) -> np.ndarray:
+    return np.array([q.x, q.y, q.z, q.w])
+
+
+def _set(target, values) -> None:
+    target.x, target.y, target.z = (float(v) for v in values)
+
+
+def plant_config(params: dict, initial_length: float) -> PlantConfig:
+    """The plant's configuration from the node's parameters (see :mod:`tether_dynamics.plant_params`)."""
+    p = params
+    drive = p['reel_drive'] if p['reel_input'] == 'command' else 'spool_rate'
+    attach = (0.0, 0.0, 0.0) if p['uav_source'] == 'fixed' else tuple(p['uav_attach_offset'])
+    return PlantConfig(
+        fidelity=p['fidelity'], elements=p['elements'], dt=p['integration_step'], effects=tuple(p['effects']),
+        mass_per_length=p['linear_density'], ea=p['axial_stiffness'], diameter=p['diameter'],
+        drag_coefficient=p['drag_coefficient'], damping=p['damping'], wind=tuple(p['wind']),
+        gravity=GRAVITY, guide_way_offset=tuple(p['guide_way_offset']), initial_length=initial_length,
+        reel=ReelConfig(input=drive, spool_radius=p['spool_radius'], inertia=p['spool_inertia'],
+                        viscous_friction=p['spool_friction'], total_length=p['reel_capacity'],
+                        max_length=p['reel_capacity']),
+        uav=UavConfig(mode='prescribed', attach_offset=attach))
+
+
 class PlantNode(Node):
     """Steps the tether plant on stamped inputs and publishes its state, wrench, truth and markers."""
 
@@ -106,16 +145,22 @@ class PlantNode(Node):
         self.nodes_every = _divisor(p, 'nodes_rate')
         self.markers_every = _divisor(p, 'markers_rate')
         self.offset = np.asarray(p['guide_way_offset'], dtype=float)
-        self.plant = None
+        self.plant: TetherPlant | None = None
         self.steps = 0
         self.scripted = ScriptedReel(p['reference_gain']) if p['reel_input'] == 'reference' else None
-        self.last_output = None
+        self.truth: tuple[float, np.ndarray, np.ndarray] | None = None
+        self.deployed = 0.0
+        self.command = 0.0
         self.reel_pose = StampedInput()
+        self.reel_twist = StampedInput()
         self.uav_pose = StampedInput()
+        self.uav_twist = StampedInput()
         self.reel_command = StampedInput()
         self.create_subscription(PoseStamped, '/platform/reel_pose', self.reel_pose.add, STATE)
+        self.create_subscription(TwistStamped, '/platform/reel_twist', self.reel_twist.add, STATE)
         if p['uav_source'] == 'topic':
             self.create_subscription(PoseStamped, '/uav/pose', self.uav_pose.add, SENSOR)
+            self.create_subscription(TwistStamped, '/uav/twist', self.uav_twist.add, SENSOR)
         if p['reel_input'] == 'command':
             self.create_subscription(ReelCommand, '/reel/command', self.reel_command.add, COMMAND)
         self.state_pub = self.create_publisher(TetherState, '/tether/state', STATE)
@@ -128,13 +173,151 @@ class PlantNode(Node):
             f'tether plant: {p["fidelity"]}, {p["elements"]} elements, effects {p["effects"] or "none"}, '
             f'{p["state_rate"]:g} Hz; reel input {p["reel_input"]}; UAV {p["uav_source"]}')
 
+    def _inputs(self, tick_ns: int) -> PlantInputs | None:
+        """The plant's inputs for the tick from the latest messages stamped at or before it, or None."""
+        mount, twist = self.reel_pose.at(tick_ns), self.reel_twist.at(tick_ns)
+        inputs = PlantInputs(sea_surface_height=self.params['sea_level'])
+        if mount is None or twist is None:
+            return None
+        inputs.platform_position = _vector(mount.pose.position)
+        inputs.platform_quaternion = _quaternion(mount.pose.orientation)
+        inputs.platform_velocity = _vector(twist.twist.linear)
+        inputs.platform_angular_velocity = _vector(twist.twist.angular)
+        if self.params['uav_source'] == 'fixed':
+            inputs.uav_position = np.asarray(self.params['uav_position'], dtype=float)
+        else:
+            pose, uav_twist = self.uav_pose.at(tick_ns), self.uav_twist.at(tick_ns)
+            if pose is None or uav_twist is None:
+                return None
+            inputs.uav_position = _vector(pose.pose.position)
+            inputs.uav_quaternion = _quaternion(pose.pose.orientation)
+            inputs.uav_velocity = _vector(uav_twist.twist.linear)
+            inputs.uav_angular_velocity = _vector(uav_twist.twist.angular)
+        return inputs
+
+    def _reel(self, tick_ns: int, inputs: PlantInputs) -> None:
+        """Set the reel input for the tick: the scripted reel, or the latest /reel/command (held; 0 before the first)."""
+        if self.scripted is not None:
+            if self.truth is not None:
+                payout = self.scripted.step(self.truth[0], self.truth[1], self.deployed)
+                inputs.spool_rate = payout / self.params['spool_radius']
+            return
+        command = self.reel_command.at(tick_ns)
+        if command is not None:
+            drive = self.params['reel_drive']
+            expected = ReelCommand.CONTROL_SPOOL_RATE if drive == 'spool_rate' else ReelCommand.CONTROL_TORQUE
+            if command.control != expected:
+                raise ConfigurationError(f'/reel/command with control {command.control} but the plant\'s '
+                                         f'reel_drive is {drive} (control {expected})')
+            self.command = command.spool_rate if drive == 'spool_rate' else command.spool_torque
+        inputs.spool_rate = self.command
+        inputs.reel_torque = self.command
+
+    def _start(self, inputs: PlantInputs) -> None:
+        """Build the plant at the first tick: the deployed length is the reference length unless given."""
+        length = self.params['initial_length']
+        if length == 0.0:
+            guide, _ = self._guide_way(inputs)
+            d = inputs.uav_position - guide
+            length = reference_length(float(np.hypot(d[0], d[1])), float(d[2])).length
+        try:
+            self.plant = TetherPlant(plant_config(self.params, length))
+        except PlantConfigError as error:
+            raise ConfigurationError(str(error)) from None
+
+    def _guide_way(self, inputs: PlantInputs) -> tuple[np.ndarray, np.ndarray]:
+        rotation = quaternion_rotation(inputs.platform_quaternion, 'the reel pose orientation')
+        return point_on_body(inputs.platform_position, rotation, inputs.platform_velocity,
+                             inputs.platform_angular_velocity, self.offset)
+
     def step_callback(self, tick: Time) -> None:
         """Step the plant to the tick's sim time and publish its outputs."""
         tick_ns = tick.nanoseconds
-        mount = self.reel_pose.at(tick_ns)
-        if mount is None:
+        t = tick_ns * 1e-9
+        inputs = self._inputs(tick_ns)
+        if inputs is None:
             return
-        raise NotImplementedError
+        self._reel(tick_ns, inputs)
+        if self.plant is None:
+            self._start(inputs)
+        try:
+            out = self.plant.step(t, inputs)
+        except (PlantStepError, ValueError) as error:
+            self.get_logger().error(f'plant step at t = {t:.3f} s failed: {error}')
+            raise SystemExit(1) from None
+        self.deployed = out.deployed_length
+        stamp = tick.to_msg()
+        self._publish_state(stamp, out)
+        self._publish_wrench(stamp, out)
+        self._publish_truth(stamp, t, inputs, out)
+        if self.steps % self.nodes_every == 0:
+            self._publish_nodes(stamp, out)
+        if self.steps % self.markers_every == 0:
+            self.markers_pub.publish(scene_markers(stamp, out.nodes, inputs.platform_position,
+                                                   inputs.platform_quaternion, out.reel_end, out.uav_end,
+                                                   out.lowest_point, out.fouling))
+        self.steps += 1
+
+    def _publish_state(self, stamp, out: PlantOutputs) -> None:
+        msg = TetherState()
+        msg.header.stamp = stamp
+        msg.header.frame_id = 'world'
+        msg.fidelity = out.fidelity
+        msg.element_count = out.element_count if out.fidelity != 'quasi_static' else 0
+        _set(msg.reel_end, out.reel_end)
+        _set(msg.uav_end, out.uav_end)
+        _set(msg.lowest_point, out.lowest_point)
+        msg.deployed_length = out.deployed_length
+        msg.tension_reel, msg.tension_uav = out.tension_reel, out.tension_uav
+        msg.departure_angle, msg.arrival_angle = out.departure_angle, out.arrival_angle
+        msg.max_strain = out.max_strain
+        _set(msg.force_reel, out.force_on_reel)
+        _set(msg.force_uav, out.force_on_uav)
+        msg.payout_rate, msg.spool_angle, msg.spool_rate = out.payout_rate, out.spool_angle, out.spool_rate
+        msg.reel_work = out.reel_work
+        msg.clearance_deck, msg.clearance_sea, msg.fouling = out.clearance_deck, out.clearance_sea, out.fouling
+        msg.kinetic_energy, msg.potential_energy = out.kinetic_energy, out.potential_energy
+        msg.strain_energy = out.strain_energy
+        self.state_pub.publish(msg)
+
+    def _publish_wrench(self, stamp, out: PlantOutputs) -> None:
+        msg = WrenchStamped()
+        msg.header.stamp = stamp
+        msg.header.frame_id = 'world'
+        _set(msg.wrench.force, out.force_on_uav)
+        _set(msg.wrench.torque, out.moment_on_uav)
+        self.wrench_pub.publish(msg)
+
+    def _publish_truth(self, stamp, t: float, inputs: PlantInputs, out: PlantOutputs) -> None:
+        """UAV attachment minus guide way; velocities exact, acceleration a backward difference over one step."""
+        _, guide_velocity = self._guide_way(inputs)
+        rotation = quaternion_rotation(inputs.uav_quaternion, 'the UAV orientation')
+        _, uav_velocity = point_on_body(inputs.uav_position, rotation, inputs.uav_velocity,
+                                        rotation.apply(inputs.uav_angular_velocity),
+                                        np.asarray(self.plant.config.uav.attach_offset, dtype=float))
+        position = out.uav_end - out.reel_end
+        velocity = uav_velocity - guide_velocity
+        acceleration = np.zeros(3)
+        if self.truth is not None and t > self.truth[0]:
+            acceleration = (velocity - self.truth[2]) / (t - self.truth[0])
+        self.truth = (t, position, velocity)
+        msg = RelativePosition()
+        msg.header.stamp = stamp
+        msg.header.frame_id = 'world'
+        _set(msg.position, position)
+        _set(msg.velocity, velocity)
+        _set(msg.acceleration, acceleration)
+        self.truth_pub.publish(msg)
+
+    def _publish_nodes(self, stamp, out: PlantOutputs) -> None:
+        msg = TetherNodes()
+        msg.header.stamp = stamp
+        msg.header.frame_id = 'world'
+        msg.positions = [Point(x=float(p[0]), y=float(p[1]), z=float(p[2])) for p in out.nodes]
+        msg.velocities = [Vector3(x=float(v[0]), y=float(v[1]), z=float(v[2])) for v in out.velocities]
+        msg.tensions = [float(v) for v in out.tensions]
+        msg.arc_length = [float(v) for v in out.arc_length]
+        self.nodes_pub.publish(msg)
 
 
 def main(args=None):

@@ -10,6 +10,9 @@ from tether_common.parameters import ParamSpec
 
 FIDELITIES = ('quasi_static', 'linear', 'quadratic')
 EFFECTS = ('drag', 'wind', 'damping')
+REEL_DRIVES = ('spool_rate', 'torque')
+"""The plant's choices (:mod:`tether_dynamics.plant.config`), repeated so that validating a
+scene does not import the compiled plant; a test keeps them equal."""
 REEL_INPUTS = ('reference', 'command')
 UAV_SOURCES = ('fixed', 'topic')
 
@@ -18,8 +21,13 @@ PARAMETERS: tuple[ParamSpec, ...] = (
               'step), linear or quadratic finite elements (Ch. 8)', choices=FIDELITIES, read_only=True),
     ParamSpec('elements', 20, 'number of finite elements (ignored by quasi_static)', low=1, high=400,
               read_only=True),
-    ParamSpec('effects', [], 'effects on the tether: drag, wind, damping (Kelvin-Voigt); none when empty',
-              choices=EFFECTS, item_type=str, read_only=True),
+    ParamSpec('effects', [], 'effects on the finite-element tether: drag, wind (needs drag), damping '
+              '(Kelvin-Voigt); none when empty', choices=EFFECTS, item_type=str, read_only=True),
+    ParamSpec('drag_coefficient', 1.2, 'normal drag coefficient of the tether (effect drag)', low=0.0, high=10.0,
+              read_only=True),
+    ParamSpec('wind', [0.0, 0.0, 0.0], 'uniform wind velocity in world (effect wind)', 'm/s', read_only=True),
+    ParamSpec('damping', 0.0, 'Kelvin-Voigt coefficient c, tension += c d(strain)/dt (effect damping)', 'N s',
+              low=0.0, high=1e6, read_only=True),
     ParamSpec('integration_step', 0.0005, 'integration step of the finite-element models', 's',
               low=1e-6, high=0.1, read_only=True),
     ParamSpec('state_rate', 100.0, 'plant output steps per second: /tether/state, /tether/uav_wrench, '
@@ -40,11 +48,24 @@ PARAMETERS: tuple[ParamSpec, ...] = (
     ParamSpec('reel_input', 'reference', 'what drives the spool: reference (a scripted reel: the deployed '
               'length follows the catenary reference length of the true relative position, Eq. 4.4/4.5) or '
               'command (/reel/command, from the smart reel)', choices=REEL_INPUTS, read_only=True),
+    ParamSpec('reel_drive', 'spool_rate', 'what /reel/command sets (reel_input command): spool_rate or '
+              'torque; a command of the other kind is refused', choices=REEL_DRIVES, read_only=True),
+    ParamSpec('spool_radius', 0.05, 'spool radius d: payout rate = d x spool rate', 'm', low=1e-3, high=2.0,
+              read_only=True),
+    ParamSpec('spool_inertia', 0.01, 'inertia of the empty drum and motor (Eq. 7.26)', 'kg m^2', low=1e-6,
+              high=100.0, read_only=True),
+    ParamSpec('spool_friction', 0.0, 'viscous friction of the spool', 'N m s/rad', low=0.0, high=100.0,
+              read_only=True),
+    ParamSpec('reel_capacity', 100.0, 'tether on the drum plus deployed (100 m on the thesis reel, Sec. 4.1)',
+              'm', low=1.0, high=10000.0, read_only=True),
     ParamSpec('reference_gain', 5.0, 'scripted reel: payout rate per metre of length error, added to the '
               "reference length's rate of change", '1/s', low=0.0, high=1000.0, read_only=True),
     ParamSpec('uav_source', 'fixed', 'UAV attachment point: fixed (uav_position, a rigidly mounted surrogate '
               'as in Sec. 5.1) or topic (/uav/pose, an external UAV)', choices=UAV_SOURCES, read_only=True),
     ParamSpec('uav_position', [3.22, 0.0, 5.9], 'fixed UAV attachment point in world', 'm', read_only=True),
-    ParamSpec('sea_level', -1.5, 'mean sea level in world for the sea clearance of the lowest point', 'm',
-              low=-1000.0, high=1000.0, read_only=True),
+    ParamSpec('uav_attach_offset', [0.0, 0.0, -0.1], 'tether attachment from the UAV centre of mass in its FLU '
+              'body frame (uav_source topic)', 'm', read_only=True),
+    ParamSpec('sea_level', -1.5, 'world height of the calm sea surface the clearance and fouling flag are '
+              'measured from (waves under the tether are not modelled)', 'm', low=-1000.0, high=1000.0,
+              read_only=True),
 )

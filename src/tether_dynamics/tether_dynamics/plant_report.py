@@ -28,9 +28,9 @@ import numpy as np  # noqa: E402
 from rosbags.highlevel import AnyReader  # noqa: E402
 from rosbags.highlevel import AnyReaderError  # noqa: E402
 
-from tether_dynamics.catenary import solve  # noqa: E402
+from tether_dynamics.statics.catenary import solve  # noqa: E402
 from tether_dynamics.plant_markers import reference_shape  # noqa: E402
-from tether_dynamics.reference_length import reference_lengths  # noqa: E402
+from tether_dynamics.statics.reference_length import reference_lengths  # noqa: E402
 
 STATE = '/tether/state'
 NODES = '/tether/nodes'

@@ -3,7 +3,7 @@
 Until the smart reel (its own package, thesis Sec. 4.2) closes the loop over its sensors and
 motor, a scene can let the plant's spool follow the heave-robust reference length of the
 true relative position directly (Eq. 4.4/4.5 with the safeguards of
-:mod:`tether_dynamics.reference_length`): the payout rate is the reference's rate of change
+:mod:`tether_dynamics.statics.reference_length`): the payout rate is the reference's rate of change
 plus a proportional correction of the length error,
 
     v = (L_ref(t_k) - L_ref(t_k-1)) / (t_k - t_k-1) + k (L_ref(t_k) - L),
@@ -17,7 +17,7 @@ from __future__ import annotations
 
 import math
 
-from tether_dynamics.reference_length import reference_length
+from tether_dynamics.statics.reference_length import reference_length
 
 
 class ScriptedReel:
