@@ -114,6 +114,10 @@ def _plane(points: np.ndarray, origin: np.ndarray, end: np.ndarray) -> tuple[np.
     return (points[:, :2] - origin[:2]) @ direction, points[:, 2] - origin[2]
 
 
+def _model(run: TetherRun) -> str:
+    return f'{run.fidelity}, {run.elements} elements' if run.elements else run.fidelity
+
+
 def _plot_snapshots(run: TetherRun, out: Path) -> None:
     picks = np.unique(np.linspace(0, len(run.nodes) - 1, SNAPSHOTS).round().astype(int))
     fig = plt.figure(figsize=(13, 6))
@@ -130,6 +134,12 @@ def _plot_snapshots(run: TetherRun, out: Path) -> None:
         rr, zr = _plane(ref, nodes[0], nodes[-1])
         ax2.plot(r, z, color=color, lw=1.6, marker='.', ms=3, label=label)
         ax2.plot(rr, zr, color=color, lw=1.0, ls='--')
+    every = np.concatenate([run.nodes[i] for i in picks])
+    centre = 0.5 * (every.max(axis=0) + every.min(axis=0))
+    half = 0.5 * float(np.max(every.max(axis=0) - every.min(axis=0)))
+    for setter, c in zip((ax3.set_xlim, ax3.set_ylim, ax3.set_zlim), centre):
+        setter(c - half, c + half)
+    ax3.set_box_aspect((1.0, 1.0, 1.0))
     ax3.set_xlabel('x east (m)')
     ax3.set_ylabel('y north (m)')
     ax3.set_zlabel('z up (m)')
@@ -140,8 +150,7 @@ def _plot_snapshots(run: TetherRun, out: Path) -> None:
     ax2.set_title('in the vertical plane through the ends')
     ax2.set_aspect('equal', adjustable='datalim')
     ax2.grid(alpha=0.3)
-    fig.suptitle(f'tether snapshots ({run.fidelity}, {run.elements} elements) beside the catenary of the '
-                 'reference length (Eq. 3.2, 4.4/4.5)')
+    fig.suptitle(f'tether snapshots ({_model(run)}) beside the catenary of the reference length (Eq. 3.2, 4.4/4.5)')
     fig.tight_layout()
     fig.savefig(out / 'tether_snapshots.png', dpi=110)
     plt.close(fig)
@@ -217,8 +226,8 @@ def tether_report(bag_path: str, out_dir: str) -> list[str]:
     arrival_error = np.degrees(run.arrival - ref.beta)
     tb = run.tension_uav
     lines = [
-        f'tether: {run.t.size} plant steps over {run.t[-1] - run.t[0]:.1f} s, {run.fidelity}, '
-        f'{run.elements} elements; {len(run.nodes)} node snapshots',
+        f'tether: {run.t.size} plant steps over {run.t[-1] - run.t[0]:.1f} s ({_model(run)}), '
+        f'{len(run.nodes)} node snapshots',
         f'tether: UAV-end tension {tb.mean():.2f} ± {tb.std():.2f} N, peak-to-peak {np.ptp(tb):.2f} N '
         f'(thesis, UAV surrogate with catenary control: {THESIS_TENSION[0]} ± {THESIS_TENSION[1]} N, '
         f'peak-to-peak {THESIS_TENSION[2]} N); reel-end tension {run.tension_reel.mean():.2f} ± '
