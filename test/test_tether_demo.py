@@ -141,6 +141,6 @@ def test_truth_wrench_and_state_agree_step_by_step(run):
         relative = truths[stamp].position
         assert [relative.x, relative.y, relative.z] == pytest.approx([uav.x - reel.x, uav.y - reel.y, uav.z - reel.z])
         force = wrenches[stamp].wrench.force
-        assert [force.x, force.y, force.z] == [state.force_uav.x, state.force_uav.y, state.force_uav.z]
+        assert [force.x, force.y, force.z] == [state.force_on_uav.x, state.force_on_uav.y, state.force_on_uav.z]
         assert np.linalg.norm([force.x, force.y, force.z]) == pytest.approx(state.tension_uav, rel=1e-9)
         assert state.tension_uav > state.tension_reel > 0.0  # a hanging tether: T_B - T_A = mu g dz

@@ -271,8 +271,9 @@ class PlantNode(Node):
         msg.tension_reel, msg.tension_uav = out.tension_reel, out.tension_uav
         msg.departure_angle, msg.arrival_angle = out.departure_angle, out.arrival_angle
         msg.max_strain = out.max_strain
-        _set(msg.force_reel, out.force_on_reel)
-        _set(msg.force_uav, out.force_on_uav)
+        _set(msg.force_on_reel, out.force_on_reel)
+        _set(msg.force_on_uav, out.force_on_uav)
+        _set(msg.moment_on_uav, out.moment_on_uav)
         msg.payout_rate, msg.spool_angle, msg.spool_rate = out.payout_rate, out.spool_angle, out.spool_rate
         msg.reel_work = out.reel_work
         msg.clearance_deck, msg.clearance_sea, msg.fouling = out.clearance_deck, out.clearance_sea, out.fouling
