@@ -210,8 +210,10 @@ class PlantNode(Node):
                 raise ConfigurationError(f'/reel/command with control {command.control} but the plant\'s '
                                          f'reel_drive is {drive} (control {expected})')
             self.command = command.spool_rate if drive == 'spool_rate' else command.spool_torque
-        inputs.spool_rate = self.command
-        inputs.reel_torque = self.command
+        if self.params['reel_drive'] == 'spool_rate':
+            inputs.spool_rate = self.command
+        else:
+            inputs.reel_torque = self.command
 
     def _start(self, inputs: PlantInputs) -> None:
         """Build the plant at the first tick: the deployed length is the reference length unless given."""

@@ -28,7 +28,8 @@ PARAMETERS: tuple[ParamSpec, ...] = (
     ParamSpec('wind', [0.0, 0.0, 0.0], 'uniform wind velocity in world (effect wind)', 'm/s', read_only=True),
     ParamSpec('damping', 0.0, 'Kelvin-Voigt coefficient c, tension += c d(strain)/dt (effect damping)', 'N s',
               low=0.0, high=1e6, read_only=True),
-    ParamSpec('integration_step', 0.0005, 'integration step of the finite-element models', 's',
+    ParamSpec('integration_step', 0.0005, 'internal step of the plant: the finite-element step, or how often '
+              'the quasi-static catenary is solved between plant steps', 's',
               low=1e-6, high=0.1, read_only=True),
     ParamSpec('state_rate', 100.0, 'plant output steps per second: /tether/state, /tether/uav_wrench, '
               '/truth/relative each step', 'Hz', low=1.0, high=1000.0, read_only=True),
