@@ -22,6 +22,8 @@ from mcap.reader import make_reader
 from mcap_ros2.decoder import DecoderFactory
 from rosbags.highlevel import AnyReader
 
+from tether_bringup.bag_reader import read_bag
+
 from tethersim_testing import processes_of
 from tethersim_testing import tethersim
 
@@ -144,3 +146,36 @@ def test_truth_wrench_and_state_agree_step_by_step(run):
         assert [force.x, force.y, force.z] == [state.force_on_uav.x, state.force_on_uav.y, state.force_on_uav.z]
         assert np.linalg.norm([force.x, force.y, force.z]) == pytest.approx(state.tension_uav, rel=1e-9)
         assert state.tension_uav > state.tension_reel > 0.0  # a hanging tether: T_B - T_A = mu g dz
+
+
+def _readme_topics() -> dict[str, tuple[str, float, str]]:
+    """The README's topic table: topic -> (type, rate Hz, reliability)."""
+    readme = (Path(__file__).resolve().parent.parent / 'README.md').read_text()
+    rows = {}
+    for line in readme.splitlines():
+        cells = [c.strip() for c in line.strip().strip('|').split('|')]
+        if len(cells) == 5 and cells[0].startswith('/'):
+            rate = re.search(r'(\d+(?:\.\d+)?) Hz', cells[3])
+            rows[cells[0]] = (cells[1].split(' ')[0], float(rate.group(1)), cells[4].split(',')[0])
+    return rows
+
+
+def test_readme_topic_table_is_what_tether_demo_records(run):
+    _, out = run
+    bag = read_bag(out / 'bag')
+    table = _readme_topics()
+    recorded = {name for name in bag.topics if name not in ('/rosout', '/parameter_events')}
+    assert set(table) == recorded
+    stamps: dict[str, list[int]] = {}
+    by_rosbags, _, _ = _decoded(out / 'bag' / 'bag_0.mcap')
+    for topic, msg in by_rosbags:
+        stamp = msg.clock if topic == '/clock' else msg.markers[0].header.stamp if topic == '/tether/markers' \
+            else msg.header.stamp
+        stamps.setdefault(topic, []).append(stamp.sec * 1_000_000_000 + stamp.nanosec)
+    for name, (type_name, rate, reliability) in table.items():
+        topic = bag.topics[name]
+        assert topic.type_name.replace('/msg/', '/') == type_name, name
+        expected = 'reliable' if reliability == 'reliable' else 'best_effort'
+        assert {q.reliability for q in topic.qos} == {expected}, name
+        t = np.array(stamps[name])
+        assert (len(t) - 1) / ((t[-1] - t[0]) * 1e-9) == pytest.approx(rate, rel=1e-6), name
