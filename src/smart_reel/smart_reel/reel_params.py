@@ -81,14 +81,12 @@ PARAMETERS: tuple[ParamSpec, ...] = (
               low=0.0, high=90.0, read_only=True),
     ParamSpec('arm_encoder_bits', 12, 'guide-arm absolute encoder resolution (MAE-3, Table 5.1)', 'bit',
               low=1, high=24, read_only=True),
-    ParamSpec('min_clearance', 0.2, 'safety: stop paying out when the lowest point is closer than this to the '
+    ParamSpec('min_clearance', 0.1, 'safety: stop paying out when the lowest point is closer than this to the '
               'deck or the water', 'm', low=0.0, high=100.0, read_only=True),
     ParamSpec('min_departure_angle', 0.0, 'safety: stop paying out when the guide-arm reading is below this',
               'deg', low=-90.0, high=90.0, read_only=True),
     ParamSpec('max_tension', 80.0, 'safety: stop reeling in when the tension estimate exceeds this', 'N',
               low=0.1, high=10000.0, read_only=True),
-    ParamSpec('guide_height', 0.3, 'guide way above the deck (the deck is this far below /tether/state '
-              'reel_end)', 'm', low=0.0, high=10.0, read_only=True),
-    ParamSpec('water_level', -2.0, 'world z of the water surface (the floor under the surrogate rig)', 'm',
-              low=-1000.0, high=1000.0, read_only=True),
+    ParamSpec('guide_height', 0.3, 'guide way above the deck: the deck clearance is /tether/state '
+              'clearance_deck (below the guide way) plus this', 'm', low=0.0, high=10.0, read_only=True),
 )

@@ -18,6 +18,7 @@ ANALYSIS_GROUPS = {
     'fem': ('tether_dynamics.commands.fem', 'finite-element tether dynamics, the Chapter 9 pendulum'),
     'psr': ('psr_platform_sim.cli', '3-PSR wave replicator: workspace and design optimization (Ch. 2)'),
     'reel': ('smart_reel.cli', 'smart reel: catenary-controller gain tuning (Sec. 4.2)'),
+    'report': ('smart_reel.surrogate_report', 'reports from recorded runs: surrogate (UAV-surrogate experiment, Sec. 6.1)'),
 }
 
 

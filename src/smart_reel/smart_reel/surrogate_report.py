@@ -1,0 +1,347 @@
+"""UAV-surrogate report (thesis Sec. 5.1, 6.1, Fig. 6.1-6.4) from recorded runs.
+
+``tethersim report surrogate BAG...`` reads runs of the ``surrogate_catenary``,
+``surrogate_taut`` and ``surrogate_locked`` scenes (any subset, any order: each run is
+recognised by the reel mode it recorded) and writes:
+
+* ``surrogate_length.png`` (Fig. 6.1): deployed length of each run against the catenary
+  reference model of the true relative position, platform heave, and the length error;
+* ``surrogate_angles.png`` (Fig. 6.2, 6.3): arrival angle measured vs the catenary theory
+  for the measured length and relative position, and the guide-arm reading with its
+  dead-band vs the theoretical departure angle, with their normalised cross-correlation;
+* ``surrogate_tension.png`` (Fig. 6.4): tension at the UAV end, catenary vs taut;
+* ``surrogate_clearance.png``: lowest point above deck and sea, with fouling, per run;
+* ``summary.txt``: the table beside the thesis's numbers and the issue's acceptance checks.
+
+Definitions (each as in the thesis where it says): length error = encoder length
+(/reel/state) minus the reference model (Eq. 4.4/4.5) of the true relative position
+(/truth/relative); tension = plant tension at the UAV end (the surrogate's load cell);
+arrival-angle error = mean |β measured - β of the static catenary with the measured length|;
+departure lag = lag of the peak of the normalised cross-correlation between the guide-arm
+reading and the theoretical departure angle (positive: the reading lags). Statistics skip
+the first ``SETTLE`` seconds (the platform's ramp-in).
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+import sys
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+from rosbags.highlevel import AnyReader
+from rosbags.highlevel import AnyReaderError
+
+from tether_bringup.bag_reader import resolve_bag
+from tether_bringup.errors import BagError
+from tether_common.command_line import OneLineParser
+from tether_common.command_line import UsageError
+from tether_common.command_line import run_analysis
+from tether_dynamics.catenary import solve
+from tether_dynamics.reference_length import reference_lengths
+
+SETTLE = 10.0
+"""s skipped at the start of each run."""
+GUIDE_HEIGHT = 0.3
+"""m, guide way above the deck (the reel node's default ``guide_height``)."""
+THESIS = {
+    'length_mean': 0.022, 'length_rmse': 0.028, 'tension_catenary': (2.38, 0.27, 2.21),
+    'tension_taut': (27.52, 7.30, 55.70), 'arrival_error': 2.1, 'departure_lag': 0.88,
+}
+"""Sec. 6.1.1-6.1.4."""
+MODE_NAMES = {1: 'catenary', 2: 'taut', 5: 'locked'}
+TOPICS = ('/tether/state', '/truth/relative', '/reel/state', '/reel/diagnostics', '/platform/state')
+
+
+@dataclass
+class Run:
+    """Time series of one run, each on its own stamps (s)."""
+
+    path: Path
+    controller: str
+    tether: dict[str, np.ndarray]
+    relative: dict[str, np.ndarray]
+    reel: dict[str, np.ndarray]
+    diagnostics: dict[str, np.ndarray]
+    platform: dict[str, np.ndarray]
+
+
+def _stamp(msg) -> float:
+    return msg.header.stamp.sec + msg.header.stamp.nanosec * 1e-9
+
+
+def _rows(reader, topic: str, fields) -> dict[str, np.ndarray]:
+    connections = [c for c in reader.connections if c.topic == topic]
+    rows = []
+    for connection, _, raw in reader.messages(connections=connections):
+        m = reader.deserialize(raw, connection.msgtype)
+        rows.append([_stamp(m)] + [f(m) for f in fields.values()])
+    data = np.array(rows, dtype=float).reshape(-1, len(fields) + 1)
+    order = np.argsort(data[:, 0], kind='stable')
+    data = data[order]
+    return {'t': data[:, 0], **{name: data[:, i + 1] for i, name in enumerate(fields)}}
+
+
+def load_run(path: str | Path) -> Run:
+    """Read one run's bag (a file, bag directory or run directory)."""
+    try:
+        file = resolve_bag(path)
+        with AnyReader([file]) as reader:
+            present = {c.topic for c in reader.connections}
+            missing = [t for t in TOPICS[:4] if t not in present]
+            if missing:
+                raise UsageError(f'{path}: not a surrogate run, no {", ".join(missing)} in the bag')
+            tether = _rows(reader, '/tether/state', {
+                'length': lambda m: m.deployed_length, 'tension_uav': lambda m: m.tension_uav,
+                'tension_reel': lambda m: m.tension_reel, 'departure': lambda m: m.departure_angle,
+                'arrival': lambda m: m.arrival_angle, 'clearance_deck': lambda m: m.clearance_deck,
+                'clearance_sea': lambda m: m.clearance_sea, 'fouling': lambda m: float(m.fouling),
+                'lowest_z': lambda m: m.lowest_point.z})
+            relative = _rows(reader, '/truth/relative', {
+                'dr': lambda m: math.hypot(m.position.x, m.position.y), 'dz': lambda m: m.position.z})
+            reel = _rows(reader, '/reel/state', {
+                'length': lambda m: m.deployed_length, 'arm': lambda m: m.guide_arm_angle,
+                'mode': lambda m: m.mode, 'payout': lambda m: m.payout_rate,
+                'tension_estimate': lambda m: m.tension_estimate})
+            diagnostics = _rows(reader, '/reel/diagnostics', {
+                'trips': lambda m: m.trip_count, 'reference': lambda m: m.reference_length,
+                'filtered': lambda m: m.filtered_reference_length, 'alpha': lambda m: m.filter_alpha})
+            platform = (_rows(reader, '/platform/state', {'heave': lambda m: m.heave})
+                        if '/platform/state' in present else {'t': np.zeros(0), 'heave': np.zeros(0)})
+    except (AnyReaderError, BagError) as error:
+        raise UsageError(f'{path}: cannot read the bag: {error}') from None
+    if len(reel['t']) == 0 or len(tether['t']) == 0:
+        raise UsageError(f'{path}: the bag holds no /reel/state or /tether/state messages')
+    modes = reel['mode'][reel['mode'] != 4]  # fault: a safety trip, not the controller
+    controller = MODE_NAMES.get(int(np.bincount(modes.astype(int)).argmax()) if len(modes) else 4, 'unknown')
+    return Run(Path(path), controller, tether, relative, reel, diagnostics, platform)
+
+
+def _on(t_from: np.ndarray, values: np.ndarray, t_to: np.ndarray) -> np.ndarray:
+    return np.interp(t_to, t_from, values)
+
+
+def _lag(t: np.ndarray, measured: np.ndarray, theory: np.ndarray, max_lag: float = 5.0) -> float:
+    """Lag (s) of the normalised cross-correlation's peak; positive when ``measured`` lags."""
+    dt = float(np.median(np.diff(t)))
+    a = measured - measured.mean()
+    b = theory - theory.mean()
+    n = len(a)
+    k = int(max_lag / dt)
+    lags = np.arange(-k, k + 1)
+    corr = np.array([np.dot(a[max(0, l):n + min(0, l)], b[max(0, -l):n - max(0, l)]) for l in lags])
+    corr /= np.sqrt(np.dot(a, a) * np.dot(b, b))
+    return float(lags[np.argmax(corr)] * dt), lags * dt, corr
+
+
+def analyse(run: Run) -> dict:
+    """Figures of one run (see the module docstring for definitions)."""
+    t = run.tether['t']
+    keep = t >= t[0] + SETTLE
+    dr = _on(run.relative['t'], run.relative['dr'], t)
+    dz = _on(run.relative['t'], run.relative['dz'], t)
+    model, _ = reference_lengths(dr, dz, 'poly')
+    measured = _on(run.reel['t'], run.reel['length'], t)
+    error = measured - model
+    tension = run.tether['tension_uav']
+    length = np.maximum(run.tether['length'], np.hypot(dr, dz) * (1 + 1e-9))
+    theory = solve(dr, dz, length)
+    arm_t = run.reel['t']
+    arm_keep = (arm_t >= t[0] + SETTLE) & np.isfinite(run.reel['arm'])
+    alpha_theory = _on(t, theory.alpha, arm_t[arm_keep])
+    lag, lags, corr = (_lag(arm_t[arm_keep], run.reel['arm'][arm_keep], alpha_theory)
+                       if arm_keep.sum() > 10 else (math.nan, np.zeros(0), np.zeros(0)))
+    deck = run.tether['clearance_deck'] + GUIDE_HEIGHT
+    fouled = (deck < 0.0) | (run.tether['fouling'] > 0.5)
+    return {
+        't': t, 'model': model, 'measured': measured, 'error': error, 'keep': keep, 'tension': tension,
+        'beta_theory': theory.beta, 'alpha_theory': theory.alpha, 'lags': lags, 'corr': corr,
+        'length_mean': float(np.mean(error[keep])), 'length_rmse': float(np.sqrt(np.mean(error[keep] ** 2))),
+        'tension_stats': (float(np.mean(tension[keep])), float(np.std(tension[keep])), float(np.ptp(tension[keep]))),
+        'arrival_error': float(np.degrees(np.mean(np.abs(run.tether['arrival'][keep] - theory.beta[keep])))),
+        'departure_lag': lag,
+        'trips': int(np.max(run.diagnostics['trips'])) if len(run.diagnostics['trips']) else 0,
+        'min_deck': float(np.min(deck[keep])), 'min_sea': float(np.min(run.tether['clearance_sea'][keep])),
+        'fouled_time': float(np.sum(fouled[keep]) * np.median(np.diff(t))),
+        'first_fouled': float(t[np.argmax(fouled)] - t[0]) if fouled.any() else math.nan,
+        'duration': float(t[-1] - t[0]),
+    }
+
+
+def _row(name: str, thesis: str, values: dict[str, str]) -> str:
+    cells = ''.join(f'{values.get(c, "-"):>22}' for c in ('catenary', 'taut', 'locked'))
+    return f'{name:<34}{thesis:>22}{cells}'
+
+
+def report(paths: list[str], out: Path) -> str:
+    """Analyse the runs, write the PNGs and return the summary text."""
+    runs = [load_run(p) for p in paths]
+    by_mode: dict[str, tuple[Run, dict]] = {}
+    for run in runs:
+        if run.controller in by_mode:
+            raise UsageError(f'two {run.controller} runs given: {by_mode[run.controller][0].path} and {run.path}')
+        by_mode[run.controller] = (run, analyse(run))
+    figures = {mode: result for mode, (_, result) in by_mode.items()}
+    fmt = {
+        'length mean error (m)': lambda r: f'{r["length_mean"]:+.4f}',
+        'length RMSE (m)': lambda r: f'{r["length_rmse"]:.4f}',
+        'tension at UAV mean ± std (N)': lambda r: f'{r["tension_stats"][0]:.2f} ± {r["tension_stats"][1]:.2f}',
+        'tension peak-to-peak (N)': lambda r: f'{r["tension_stats"][2]:.2f}',
+        'arrival-angle error (deg)': lambda r: f'{r["arrival_error"]:.2f}',
+        'departure-angle xcorr lag (s)': lambda r: f'{r["departure_lag"]:.2f}',
+        'safety trips': lambda r: f'{r["trips"]}',
+        'lowest point above deck, min (m)': lambda r: f'{r["min_deck"]:.3f}',
+        'lowest point above sea, min (m)': lambda r: f'{r["min_sea"]:.3f}',
+        'time fouled (s)': lambda r: f'{r["fouled_time"]:.1f}',
+    }
+    thesis = {
+        'length mean error (m)': f'{THESIS["length_mean"]}', 'length RMSE (m)': f'{THESIS["length_rmse"]}',
+        'tension at UAV mean ± std (N)': '2.38 ± 0.27 / 27.52 ± 7.30', 'tension peak-to-peak (N)': '2.21 / 55.70',
+        'arrival-angle error (deg)': f'{THESIS["arrival_error"]}',
+        'departure-angle xcorr lag (s)': f'{THESIS["departure_lag"]}',
+    }
+    lines = ['UAV-surrogate experiment (Sec. 5.1, 6.1): '
+             + ', '.join(f'{m} {figures[m]["duration"]:.0f} s ({by_mode[m][0].path})' for m in figures),
+             _row('', 'thesis (cat. / taut)', {m: m for m in figures}),
+             _row('', '', {m: '' for m in figures})]
+    for name, f in fmt.items():
+        lines.append(_row(name, thesis.get(name, ''), {m: f(r) for m, r in figures.items()}))
+    if 'catenary' in figures and 'taut' in figures:
+        ratio = figures['taut']['tension_stats'][0] / figures['catenary']['tension_stats'][0]
+        lines.append(f'mean tension taut/catenary: {ratio:.1f}x (thesis {27.52 / 2.38:.1f}x)')
+    lines += _checks(figures)
+    _plots(out, by_mode)
+    lines.append('plots: ' + ', '.join(str(out / n) for n in ('surrogate_length.png', 'surrogate_angles.png',
+                                                               'surrogate_tension.png', 'surrogate_clearance.png')))
+    return '\n'.join(lines)
+
+
+def _checks(figures: dict[str, dict]) -> list[str]:
+    """The acceptance checks of the surrogate experiment, each computed from the runs given."""
+    lines = []
+
+    def check(ok: bool, text: str) -> None:
+        lines.append(f'{"PASS" if ok else "FAIL"}: {text}')
+
+    if 'catenary' in figures:
+        c = figures['catenary']
+        check(c['length_rmse'] <= 0.03, f'catenary length RMSE {c["length_rmse"]:.4f} m <= 0.03 m')
+    if 'catenary' in figures and 'taut' in figures:
+        ratio = figures['taut']['tension_stats'][0] / figures['catenary']['tension_stats'][0]
+        check(ratio >= 10.0, f'mean tension taut/catenary {ratio:.1f}x >= 10x')
+    for mode in ('catenary', 'taut'):
+        if mode in figures:
+            check(figures[mode]['trips'] == 0, f'{mode}: {figures[mode]["trips"]} safety trips (none expected)')
+    if 'locked' in figures:
+        f = figures['locked']
+        check(f['fouled_time'] > 0.0, f'no control: fouled for {f["fouled_time"]:.1f} s, first at '
+              f'{f["first_fouled"]:.1f} s (lowest point below the deck or in the sea)')
+    return lines
+
+
+def _plots(out: Path, by_mode: dict[str, tuple[Run, dict]]) -> None:
+    import matplotlib
+    matplotlib.use('Agg')
+    import matplotlib.pyplot as plt
+    colors = {'catenary': 'tab:blue', 'taut': 'tab:red', 'locked': 'tab:gray'}
+    fig, axes = plt.subplots(2, 1, figsize=(11, 7), sharex=True)
+    for mode, (run, r) in by_mode.items():
+        t = r['t'] - r['t'][0]
+        axes[0].plot(t, r['measured'], color=colors[mode], label=f'{mode}: measured length')
+        axes[0].plot(t, r['model'], color=colors[mode], ls=':', lw=1, label=f'{mode}: catenary model')
+        axes[1].plot(t, r['error'], color=colors[mode], label=mode)
+    first = next(iter(by_mode.values()))[0]
+    if len(first.platform['t']):
+        ax2 = axes[0].twinx()
+        ax2.plot(first.platform['t'] - first.tether['t'][0], first.platform['heave'], color='k', lw=0.6, alpha=0.5)
+        ax2.set_ylabel('platform heave (m)')
+    axes[0].set_ylabel('tether length (m)')
+    axes[0].legend(fontsize=7, loc='upper left')
+    axes[1].set_ylabel('measured - model (m)')
+    axes[1].set_xlabel('t (s)')
+    axes[1].legend(fontsize=8)
+    axes[0].set_title('Tether length against the catenary model (cf. Fig. 6.1)')
+    fig.tight_layout()
+    fig.savefig(out / 'surrogate_length.png', dpi=100)
+    plt.close(fig)
+
+    fig, axes = plt.subplots(3, 1, figsize=(11, 9))
+    for mode, (run, r) in by_mode.items():
+        t = r['t'] - r['t'][0]
+        axes[0].plot(t, np.degrees(run.tether['arrival']), color=colors[mode], label=f'{mode}: measured β')
+        if mode == 'catenary':
+            axes[0].plot(t, np.degrees(r['beta_theory']), 'k:', label='catenary theory β')
+            axes[1].plot(run.reel['t'] - r['t'][0], np.degrees(run.reel['arm']), color=colors[mode],
+                         label='guide-arm reading')
+            axes[1].plot(t, np.degrees(r['alpha_theory']), 'k:', label='catenary theory')
+            axes[2].plot(r['lags'], r['corr'], color=colors[mode])
+            axes[2].axvline(r['departure_lag'], color='k', lw=0.6)
+    axes[0].set_ylabel('arrival angle (deg)')
+    axes[0].legend(fontsize=8)
+    axes[0].set_title('Arrival angle (cf. Fig. 6.2) and departure angle with the guide-arm dead-band (cf. Fig. 6.3)')
+    axes[1].set_ylabel('departure angle (deg)')
+    axes[1].set_xlabel('t (s)')
+    axes[1].legend(fontsize=8)
+    axes[2].set_xlabel('lag of the reading (s)')
+    axes[2].set_ylabel('normalised xcorr')
+    fig.tight_layout()
+    fig.savefig(out / 'surrogate_angles.png', dpi=100)
+    plt.close(fig)
+
+    fig, ax = plt.subplots(figsize=(11, 4.5))
+    for mode, (run, r) in by_mode.items():
+        ax.plot(r['t'] - r['t'][0], r['tension'], color=colors[mode], label=mode)
+    ax.set_yscale('log')
+    ax.set_ylabel('tension at the UAV (N)')
+    ax.set_xlabel('t (s)')
+    ax.set_title('Tether tension at the UAV surrogate, catenary vs taut (cf. Fig. 6.4)')
+    ax.legend()
+    fig.tight_layout()
+    fig.savefig(out / 'surrogate_tension.png', dpi=100)
+    plt.close(fig)
+
+    fig, ax = plt.subplots(figsize=(11, 4.5))
+    for mode, (run, r) in by_mode.items():
+        t = r['t'] - r['t'][0]
+        ax.plot(t, run.tether['clearance_deck'] + GUIDE_HEIGHT, color=colors[mode], label=f'{mode}: above deck')
+        ax.plot(t, run.tether['clearance_sea'], color=colors[mode], ls='--', label=f'{mode}: above sea')
+    ax.axhline(0.0, color='k', lw=0.8)
+    ax.set_ylabel('lowest point clearance (m)')
+    ax.set_xlabel('t (s)')
+    ax.set_title('Fouling clearance of the lowest point')
+    ax.legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(out / 'surrogate_clearance.png', dpi=100)
+    plt.close(fig)
+
+
+def reel_report(bag_path: str, out_dir: str) -> list[str]:
+    """Scene report: the figures of one run (length error, tension, trips, clearance, Sec. 6.1)."""
+    out = Path(out_dir)
+    out.mkdir(parents=True, exist_ok=True)
+    return report([bag_path], out).splitlines()
+
+
+def build_parser() -> argparse.ArgumentParser:
+    """Return the argument parser of ``tethersim report``."""
+    parser = OneLineParser(prog='tethersim report', description='Reports computed from recorded runs.')
+    sub = parser.add_subparsers(dest='command', required=True, parser_class=OneLineParser)
+    p = sub.add_parser('surrogate', help='UAV-surrogate experiment, Fig. 6.1-6.4 and Sec. 6.1 numbers')
+    p.add_argument('bags', nargs='+', help='run directories, bag directories or .mcap files')
+    p.add_argument('--out', type=Path, default=Path('runs/report-surrogate'), help='output directory')
+    return parser
+
+
+def _command(args: argparse.Namespace) -> str:
+    return report(args.bags, args.out)
+
+
+def main(argv: list[str] | None = None) -> int:
+    """Run ``tethersim report``; return the exit status."""
+    return run_analysis('tethersim report', build_parser(), argv, _command)
+
+
+if __name__ == '__main__':
+    sys.exit(main())
