@@ -53,6 +53,10 @@ class ReelInputs:
     """rad, true departure angle above horizontal."""
     clearance: float = math.inf
     """m, lowest point above the deck or the water, whichever is closer."""
+    plant_length: float | None = None
+    """m, the plant's deployed length at ``plant_time``."""
+    plant_time: float | None = None
+    """s, stamp of ``plant_length``."""
 
 
 @dataclass
@@ -69,6 +73,7 @@ class ReelOutputs:
     spool_rate: float
     mean_spool_rate: float
     payout_rate: float
+    command_payout: float
     deployed_length: float
     measured_length: float
     radius: float
@@ -100,7 +105,7 @@ def build_core(params: dict, initial_length: float) -> ReelCore:
                     reference_mode=params['reference_mode'],
                     scheduler=SchmittScheduler(params['schedule_upper'], params['schedule_lower'],
                                                params['alpha_slow']),
-                    taut_torque=params['taut_torque'])
+                    taut_torque=params['taut_torque'], sync_gain=params['sync_gain'])
 
 
 class ReelCore:
@@ -109,7 +114,7 @@ class ReelCore:
     def __init__(self, controller: str, winch: Winch, encoder: Encoder, arm: GuideArm, limits: SafetyLimits, *,
                  step: float, control_period: float, radial_period: float, kp: float, kd: float, ki: float,
                  voltage_limit: float, reference_mode: str, scheduler: SchmittScheduler,
-                 taut_torque: float) -> None:
+                 taut_torque: float, sync_gain: float = 10.0) -> None:
         if controller not in CONTROLLERS:
             raise ValueError(f'controller must be one of {CONTROLLERS}, got {controller!r}')
         ratio = control_period / step
@@ -131,6 +136,8 @@ class ReelCore:
         self._control: CatenaryOutput | None = None
         self._trip = ''
         self._arm_angle = math.nan
+        self.sync_gain = sync_gain
+        self._history: dict[int, float] = {}
 
     def measured_length(self) -> float:
         """Deployed length (m) from the encoder count through the spool's layer model."""
@@ -172,6 +179,14 @@ class ReelCore:
         before_angle, before_length = w.state.spool_angle, w.deployed
         state = w.step(self.step_size, self._drive, self._command, inputs.tension or 0.0)
         payout = (w.deployed - before_length) / self.step_size
+        key = round((t + self.step_size) / self.step_size)
+        self._history[key] = w.deployed
+        self._history.pop(key - 1000, None)
+        command_payout = payout
+        if inputs.plant_length is not None and inputs.plant_time is not None:
+            own = self._history.get(round(inputs.plant_time / self.step_size))
+            if own is not None:
+                command_payout += self.sync_gain * (own - inputs.plant_length)
         if inputs.departure_angle is not None:
             self._arm_angle = self.arm.read(inputs.departure_angle, payout)
         mode = 'fault' if self._trip else self.mode
@@ -180,6 +195,7 @@ class ReelCore:
             current=state.current, shaft_torque=w.motor.shaft_constant * state.current,
             spool_angle=state.spool_angle, spool_rate=state.spool_rate,
             mean_spool_rate=(state.spool_angle - before_angle) / self.step_size, payout_rate=payout,
+            command_payout=command_payout,
             deployed_length=w.deployed, measured_length=self.measured_length(), radius=w.spool.radius(w.deployed),
             tension_estimate=self.tension_estimate(), arm_angle=self._arm_angle,
             current_limited=state.current_limited, trip=self._trip, trips=self.safety.trips,

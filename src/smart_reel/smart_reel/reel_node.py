@@ -128,6 +128,8 @@ class ReelNode(Node):
             inputs.tension = state.tension_reel
             inputs.departure_angle = state.departure_angle
             inputs.clearance = min(state.clearance_deck + self.params['guide_height'], state.clearance_sea)
+            inputs.plant_length = state.deployed_length
+            inputs.plant_time = _stamp_ns(state) * 1e-9
         relative = self.relative.at(select)
         if relative is not None:
             relative_inputs(relative, inputs)
@@ -154,7 +156,7 @@ class ReelNode(Node):
         command.motor_voltage = out.voltage
         command.spool_rate = out.mean_spool_rate
         command.spool_torque = out.shaft_torque
-        command.payout_rate = out.payout_rate
+        command.payout_rate = out.command_payout
         self.command_pub.publish(command)
         if out.control_tick:
             self.state_pub.publish(self._state(stamp, out))

@@ -27,6 +27,8 @@ PARAMETERS: tuple[ParamSpec, ...] = (
     ParamSpec('input_delay', 0.01, 'age of the inputs used at a tick: the latest /tether/state and relative '
               'position stamped at or before t - input_delay (one plant step: the loop delay)', 's',
               low=0.0, high=1.0, read_only=True),
+    ParamSpec('sync_gain', 10.0, 'rate at which the commanded payout pulls the plant\'s deployed length onto '
+              'the reel\'s (smart_reel.reel)', '1/s', low=0.0, high=1000.0, read_only=True),
     ParamSpec('kp', 2943.4, 'proportional gain on the length error (`tethersim reel tune`: 60 s JONSWAP, 38 runs)', 'V/m',
               low=0.0, high=1e5, read_only=True),
     ParamSpec('kd', 8.01, 'derivative gain on the length error (`tethersim reel tune`: 60 s JONSWAP, 38 runs)', 'V s/m',
@@ -83,7 +85,8 @@ PARAMETERS: tuple[ParamSpec, ...] = (
               low=1, high=24, read_only=True),
     ParamSpec('min_clearance', 0.1, 'safety: stop paying out when the lowest point is closer than this to the '
               'deck or the water', 'm', low=0.0, high=100.0, read_only=True),
-    ParamSpec('min_departure_angle', 0.0, 'safety: stop paying out when the guide-arm reading is below this',
+    ParamSpec('min_departure_angle', -20.0, 'safety: stop paying out when the guide-arm reading is below this '
+              '(at least half the dead-band below the lowest nominal departure angle)',
               'deg', low=-90.0, high=90.0, read_only=True),
     ParamSpec('max_tension', 80.0, 'safety: stop reeling in when the tension estimate exceeds this', 'N',
               low=0.1, high=10000.0, read_only=True),

@@ -20,7 +20,7 @@ class SafetyLimits:
 
     min_clearance: float = 0.2
     """m, lowest point above the deck or the water."""
-    min_departure_angle: float = 0.0
+    min_departure_angle: float = -0.35
     """rad, guide-arm reading."""
     max_tension: float = 80.0
     """N, tension estimate while reeling in."""

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import numpy as np
+import pytest
 
 from smart_reel.reel import ReelInputs
 from smart_reel.reel import build_core
@@ -45,3 +46,15 @@ def test_catenary_controller_waits_for_the_relative_position():
     core = build_core(default_parameters(), 8.0)
     out = core.step(0.0, ReelInputs(tension=1.0))
     assert out.drive == 'brake' and out.control is None
+
+
+def test_commanded_payout_pulls_the_plant_length_onto_the_reel_length():
+    core = build_core(dict(default_parameters(), controller='locked', sync_gain=10.0), 8.0)
+    first = core.step(0.0, ReelInputs())
+    assert first.command_payout == 0.0
+    # the plant reports 7.9 m at t = 0.01 while the reel's drum says 8.0 m: pay out 10/s x 0.1 m
+    out = core.step(0.01, ReelInputs(plant_length=7.9, plant_time=0.01))
+    assert out.payout_rate == 0.0
+    assert out.command_payout == pytest.approx(1.0)
+    # a stamp the reel has no length for (before its start) adds nothing
+    assert core.step(0.02, ReelInputs(plant_length=7.9, plant_time=-5.0)).command_payout == 0.0

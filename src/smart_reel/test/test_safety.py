@@ -35,7 +35,7 @@ def test_reel_holds_while_tripped_and_reports_the_reason():
     params = default_parameters()
     core = build_core(params, 8.0)
     # the UAV rises: the controller wants to pay out, but the lowest point is at the limit
-    inputs = ReelInputs(dr=3.22, dz=8.0, dz_rate=0.5, tension=1.0, departure_angle=0.5, clearance=0.1)
+    inputs = ReelInputs(dr=3.22, dz=8.0, dz_rate=0.5, tension=1.0, departure_angle=0.5, clearance=0.05)
     outputs = [core.step(k * 0.01, inputs) for k in range(20)]
     assert all(o.trip.startswith('payout stopped: lowest point') for o in outputs)
     assert all(o.mode == 'fault' and o.drive == 'brake' for o in outputs)
