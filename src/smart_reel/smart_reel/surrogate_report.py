@@ -39,8 +39,8 @@ from tether_bringup.errors import BagError
 from tether_common.command_line import OneLineParser
 from tether_common.command_line import UsageError
 from tether_common.command_line import run_analysis
-from tether_dynamics.catenary import solve
-from tether_dynamics.reference_length import reference_lengths
+from tether_dynamics.statics.catenary import solve
+from tether_dynamics.statics.reference_length import reference_lengths
 
 SETTLE = 10.0
 """s skipped at the start of each run."""
