@@ -130,7 +130,7 @@ class ReelCore:
         self.radial = SampleHold(radial_period)
         self.catenary = CatenaryController(kp, kd, ki, control_period, voltage_limit, reference_mode, scheduler)
         self.taut = TautController(taut_torque, winch.motor.shaft_constant)
-        self._next_control = 0.0
+        self._next_control: float | None = None
         self._drive = BRAKE
         self._command = 0.0
         self._control: CatenaryOutput | None = None
@@ -171,6 +171,8 @@ class ReelCore:
 
     def step(self, t: float, inputs: ReelInputs) -> ReelOutputs:
         """Run tick ``t`` (s): controller if due, then the winch over ``[t, t + step]``."""
+        if self._next_control is None:  # the controller runs on multiples of its period
+            self._next_control = math.ceil(t / self.control_period - 1e-9) * self.control_period
         tick = t >= self._next_control - 1e-9
         if tick:
             self._control_tick(t, inputs)
