@@ -13,6 +13,7 @@ import subprocess
 import sys
 from pathlib import Path
 
+import domain_coordinator
 import pytest
 import yaml
 from mcap.reader import make_reader
@@ -183,16 +184,17 @@ def test_external_node_started_elsewhere_joins_the_run(tmp_path, scene_file):
     path = scene_file('description: talker runs elsewhere\nduration: 1.0\nrate: 2\nnodes:\n'
                       '  talker:\n    package: not_on_this_machine\n    executable: talker\n    external: true\n'
                       f'  listener:\n    script: {Path(__file__).parent / "nodes" / "listener_double.py"}\n')
-    domain = str(50 + os.getpid() % 40)
-    env = dict(os.environ, ROS_DOMAIN_ID=domain, ROS_AUTOMATIC_DISCOVERY_RANGE='LOCALHOST')
-    remote = subprocess.Popen([sys.executable, str(Path(__file__).parent / 'nodes' / 'talker_double.py'),
-                               '--ros-args', '-r', '__node:=talker', '-p', 'use_sim_time:=true'],
-                              env=env, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
-    try:
-        result = tethersim('run', str(path), '--domain-id', domain, '--out', str(tmp_path / 'out'))
-    finally:
-        remote.terminate()
-        remote.wait(timeout=30)
+    with domain_coordinator.domain_id() as reserved:
+        domain = str(reserved)
+        env = dict(os.environ, ROS_DOMAIN_ID=domain, ROS_AUTOMATIC_DISCOVERY_RANGE='LOCALHOST')
+        remote = subprocess.Popen([sys.executable, str(Path(__file__).parent / 'nodes' / 'talker_double.py'),
+                                   '--ros-args', '-r', '__node:=talker', '-p', 'use_sim_time:=true'],
+                                  env=env, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+        try:
+            result = tethersim('run', str(path), '--domain-id', domain, '--out', str(tmp_path / 'out'))
+        finally:
+            remote.terminate()
+            remote.wait(timeout=30)
     assert result.returncode == 0, result.stderr
     assert 'waiting for the recorder and the external node(s) talker' in result.stderr
     bag = read_bag(tmp_path / 'out')

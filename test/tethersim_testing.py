@@ -20,9 +20,10 @@ def tethersim(*args: str, timeout: float = 180.0, **kwargs) -> subprocess.Comple
 
 
 def start_tethersim(*args: str, **kwargs) -> subprocess.Popen:
-    """Start ``tethersim ARGS`` without waiting for it."""
-    return subprocess.Popen([sys.executable, '-m', 'tether_bringup.cli', *args], stdout=subprocess.PIPE,
-                            stderr=subprocess.PIPE, text=True, cwd=ROOT, **kwargs)
+    """Start ``tethersim ARGS`` without waiting for it (output piped unless given)."""
+    kwargs.setdefault('stdout', subprocess.PIPE)
+    kwargs.setdefault('stderr', subprocess.PIPE)
+    return subprocess.Popen([sys.executable, '-m', 'tether_bringup.cli', *args], text=True, cwd=ROOT, **kwargs)
 
 
 def processes_of(run_dir: Path) -> list[psutil.Process]:

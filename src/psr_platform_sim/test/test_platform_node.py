@@ -8,6 +8,7 @@ import subprocess
 import sys
 import time
 
+import domain_coordinator
 import numpy as np
 import pytest
 from scipy.spatial.transform import Rotation
@@ -26,17 +27,25 @@ from tether_common.qos import SENSOR  # noqa: E402
 from tether_common.qos import STATE  # noqa: E402
 
 
+@pytest.fixture
+def ros_domain(monkeypatch):
+    """A ROS_DOMAIN_ID reserved for this test alone (parallel test runs do not share it)."""
+    with domain_coordinator.domain_id() as domain:
+        monkeypatch.setenv('ROS_DOMAIN_ID', str(domain))
+        monkeypatch.setenv('ROS_AUTOMATIC_DISCOVERY_RANGE', 'LOCALHOST')
+        yield domain
+
+
 def _start_node(tmp_path, *extra):
-    env = dict(os.environ, ROS_DOMAIN_ID=str(40 + os.getpid() % 50))
+    env = dict(os.environ)
     cmd = [sys.executable, '-m', 'psr_platform_sim.platform_node', '--ros-args',
            '-p', 'use_sim_time:=true', '-p', f'cache_dir:={tmp_path}', '-p', 'table_steps:=120',
            '-p', 'profile_duration:=20.0', *extra]
-    return subprocess.Popen(cmd, env=env, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True), env
+    return subprocess.Popen(cmd, env=env, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
 
 
-def test_node_publishes_on_sim_time(tmp_path):
-    process, env = _start_node(tmp_path, '-p', 'profile:=hpr3', '-p', 'seed:=3')
-    os.environ['ROS_DOMAIN_ID'] = env['ROS_DOMAIN_ID']
+def test_node_publishes_on_sim_time(tmp_path, ros_domain):
+    process = _start_node(tmp_path, '-p', 'profile:=hpr3', '-p', 'seed:=3')
     rclpy.init()
     node = rclpy.create_node('probe')
     got = {'state': [], 'pose': [], 'twist': [], 'imu': []}
@@ -100,8 +109,8 @@ def test_node_publishes_on_sim_time(tmp_path):
                                    sample.world_angular_velocity, rtol=0.0, atol=1e-12)
 
 
-def test_node_bad_profile_file_exits_2(tmp_path):
-    process, _ = _start_node(tmp_path, '-p', f'profile:={tmp_path / "missing.csv"}')
+def test_node_bad_profile_file_exits_2(tmp_path, ros_domain):
+    process = _start_node(tmp_path, '-p', f'profile:={tmp_path / "missing.csv"}')
     _, err = process.communicate(timeout=60)
     assert process.returncode == 2
     assert 'missing.csv' in err

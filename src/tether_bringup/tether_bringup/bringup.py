@@ -42,7 +42,7 @@ class RunOptions:
     """Where and how a run happens."""
 
     out_dir: Path
-    domain_id: int | None = None
+    domain_id: int
     discovery: str = 'localhost'
     exclude: tuple[str, ...] = ('/rosout', '/parameter_events')
     reports: tuple[str, ...] = ()

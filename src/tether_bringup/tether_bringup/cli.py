@@ -34,7 +34,7 @@ def _domain(text: str) -> int:
 
 def _add_network(parser: argparse.ArgumentParser) -> None:
     parser.add_argument('--domain-id', type=_domain, default=None,
-                        help='ROS_DOMAIN_ID of the run (default: a private one picked per run)')
+                        help='ROS_DOMAIN_ID of the run (default: a private one in 1-100 reserved for the run)')
     parser.add_argument('--discovery', choices=('localhost', 'subnet'), default='localhost',
                         help='DDS discovery range: localhost (default) or subnet to span machines')
 
@@ -82,6 +82,7 @@ def _default_out(name: str) -> Path:
 def _run(args) -> int:
     from tether_bringup.bringup import RunOptions
     from tether_bringup.bringup import execute
+    from tether_bringup.environment import reserved_domain
     from tether_bringup.scene import find_scene
     from tether_bringup.scene import load_scene
     from tether_bringup.time_sources import PacedClock
@@ -90,16 +91,18 @@ def _run(args) -> int:
     duration = args.duration or scene.duration
     rate = args.rate or scene.rate
     source = PacedClock(duration, scene.clock_step, rate)
-    options = RunOptions(out_dir=args.out or _default_out(scene.name), domain_id=args.domain_id,
-                         discovery=args.discovery, exclude=tuple(scene.exclude), reports=tuple(scene.reports),
-                         title=f'tethersim run {scene.name}')
-    return execute(scene.nodes, source, options)
+    with reserved_domain(args.domain_id) as domain_id:
+        options = RunOptions(out_dir=args.out or _default_out(scene.name), domain_id=domain_id,
+                             discovery=args.discovery, exclude=tuple(scene.exclude), reports=tuple(scene.reports),
+                             title=f'tethersim run {scene.name}')
+        return execute(scene.nodes, source, options)
 
 
 def _replay(args) -> int:
     from tether_bringup.bag_reader import read_bag
     from tether_bringup.bringup import RunOptions
     from tether_bringup.bringup import execute
+    from tether_bringup.environment import reserved_domain
     from tether_bringup.errors import BagError
     from tether_bringup.scene import find_scene
     from tether_bringup.scene import load_scene
@@ -118,10 +121,11 @@ def _replay(args) -> int:
         scene = load_scene(find_scene(args.scene))
         nodes, exclude, reports, name = scene.nodes, scene.exclude, scene.reports, f'replay-{scene.name}'
     source = BagPlayback(messages, topics, args.clock_step, args.rate)
-    options = RunOptions(out_dir=args.out or _default_out(name), domain_id=args.domain_id,
-                         discovery=args.discovery, exclude=tuple(exclude), reports=tuple(reports),
-                         title=f'tethersim replay {bag.path.name}')
-    return execute(nodes, source, options)
+    with reserved_domain(args.domain_id) as domain_id:
+        options = RunOptions(out_dir=args.out or _default_out(name), domain_id=domain_id,
+                             discovery=args.discovery, exclude=tuple(exclude), reports=tuple(reports),
+                             title=f'tethersim replay {bag.path.name}')
+        return execute(nodes, source, options)
 
 
 def _scenes(args) -> int:

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import time
 
+import domain_coordinator
 import pytest
 import rclpy
 from rclpy.executors import SingleThreadedExecutor
@@ -17,11 +18,12 @@ from tether_common.sim_timer import SimTimer
 @pytest.fixture
 def context(monkeypatch):
     monkeypatch.setenv('ROS_AUTOMATIC_DISCOVERY_RANGE', 'LOCALHOST')
-    monkeypatch.setenv('ROS_DOMAIN_ID', str(150 + int(time.time()) % 50))
-    ctx = rclpy.Context()
-    rclpy.init(context=ctx)
-    yield ctx
-    rclpy.shutdown(context=ctx)
+    with domain_coordinator.domain_id() as domain:
+        monkeypatch.setenv('ROS_DOMAIN_ID', str(domain))
+        ctx = rclpy.Context()
+        rclpy.init(context=ctx)
+        yield ctx
+        rclpy.shutdown(context=ctx)
 
 
 def test_jumps_of_sim_time_run_every_missed_tick(context):
