@@ -40,6 +40,12 @@ BAD_SCENES = [
      '    parameters: {bogus: 1}\n', 'nodes.rec.parameters.bogus: unknown parameter of tether_bringup/recorder'),
     ('parameter out of range', 'description: x\nnodes:\n  rec:\n    package: tether_bringup\n    executable: recorder\n'
      '    parameters: {flush_period: 100}\n', 'nodes.rec.parameters.flush_period: expected a number in [0.05, 10] (s)'),
+    ('unknown choice', 'description: x\nnodes:\n  platform:\n    package: psr_platform_sim\n    executable: platform\n'
+     '    parameters: {profile: hpr9}\n', 'nodes.platform.parameters.profile: expected a string from {jonswap, boat, '
+     "hpr1, hpr2, hpr3, still, workspace} or an existing .csv file, got 'hpr9'"),
+    ('missing parameter file', 'description: x\nnodes:\n  platform:\n    package: psr_platform_sim\n'
+     '    executable: platform\n    parameters: {profile: /no/such/heave.csv}\n',
+     'nodes.platform.parameters.profile: file not found: /no/such/heave.csv'),
 ]
 
 

@@ -4,6 +4,9 @@ from __future__ import annotations
 
 from tether_common.parameters import ParamSpec
 
+PROFILES = ('jonswap', 'boat', 'hpr1', 'hpr2', 'hpr3', 'still', 'workspace')
+"""The named motion profiles (:func:`psr_platform_sim.waves.named_profile` and the workspace path)."""
+
 PARAMETERS: tuple[ParamSpec, ...] = (
     ParamSpec('r', 0.40, 'tower (rail) radius, prototype of Sec. 2.7', 'm', low=0.05, high=10.0, read_only=True),
     ParamSpec('l', 0.39, 'arm length', 'm', low=0.02, high=15.0, read_only=True),
@@ -13,7 +16,8 @@ PARAMETERS: tuple[ParamSpec, ...] = (
     ParamSpec('ball_limit', 30.0, 'ball-joint rotation limit; 0 disables the ball-joint constraint', 'deg',
               low=0.0, high=90.0, read_only=True),
     ParamSpec('profile', 'jonswap', 'motion profile: jonswap, boat, hpr1, hpr2, hpr3, still, workspace '
-              '(validation path of Sec. 2.7.1), or a time,heave,roll,pitch CSV file (s, m, rad)', read_only=True),
+              '(validation path of Sec. 2.7.1), or a time,heave,roll,pitch CSV file (s, m, rad)', read_only=True,
+              choices=PROFILES, file_suffix='.csv'),
     ParamSpec('seed', 1, 'seed of the wave phases (jonswap, boat) and of the IMU noise and bias',
               low=0, high=2**31 - 1, read_only=True),
     ParamSpec('sea_state', 4, 'Douglas sea state of the boat profile', low=3, high=4, read_only=True),

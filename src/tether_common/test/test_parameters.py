@@ -37,6 +37,19 @@ def test_choices_and_lists():
     assert empty.check([]) is None and empty.element_type is str
 
 
+def test_choice_or_existing_file(tmp_path, monkeypatch):
+    spec = ParamSpec('profile', 'still', 'Profile', choices=('still', 'boat'), file_suffix='.csv')
+    (tmp_path / 'heave.csv').write_text('time,heave,roll,pitch\n')
+    monkeypatch.chdir(tmp_path)
+    assert spec.check('boat') is None
+    assert spec.check('heave.csv') is None and spec.check(str(tmp_path / 'heave.csv')) is None
+    assert spec.check('sway.csv') == 'file not found: sway.csv'
+    assert spec.check('hpr9') == "expected a string from {still, boat} or an existing .csv file, got 'hpr9'"
+    optional = ParamSpec('log', '', 'Log to replay', file_suffix='.jsonl')
+    assert optional.check('') is None
+    assert optional.check('x.txt') == "expected a string naming an existing .jsonl file, got 'x.txt'"
+
+
 def test_empty_list_without_item_type_is_refused():
     with pytest.raises(ValueError, match='needs item_type'):
         ParamSpec('x', [], 'x').element_type

@@ -2,16 +2,26 @@
 
 Ctrl-C, SIGTERM and an external shutdown end the node normally (exit status 0). A
 :class:`ConfigurationError` raised while the node is built (a bad parameter, a missing
-file) is logged as one line and ends the process with status 2, without a traceback.
+file), or rclpy's own refusal of a parameter value (a parameter declared without a
+specification, such as ``use_sim_time``), is printed as one line
+``<program>: error: parameter NAME: expected ..., got VALUE`` and ends the process with
+status 2, without a traceback. So are ``--ros-args`` rcl cannot parse (a list mixing
+types): rcl's own log line about them is replaced by the one line.
 """
 
 from __future__ import annotations
 
+import os
+import re
 import sys
+import tempfile
 from collections.abc import Callable
+from pathlib import Path
 
 import rclpy
+from rclpy.exceptions import ParameterException
 from rclpy.executors import ExternalShutdownException
+from rclpy.impl.implementation_singleton import rclpy_implementation
 from rclpy.node import Node
 
 
@@ -21,7 +31,11 @@ class ConfigurationError(Exception):
 
 def run_node(factory: Callable[[], Node], args: list[str] | None = None) -> int:
     """Build the node with ``factory`` and spin it until shutdown; return the exit status."""
-    rclpy.init(args=args)
+    program = Path(sys.argv[0]).name
+    refused = _init(args)
+    if refused:
+        print(f'{program}: error: invalid --ros-args: {refused}', file=sys.stderr, flush=True)
+        return 2
     node = None
     status = 0
     try:
@@ -29,11 +43,34 @@ def run_node(factory: Callable[[], Node], args: list[str] | None = None) -> int:
         rclpy.spin(node)
     except (KeyboardInterrupt, ExternalShutdownException):
         pass
-    except ConfigurationError as error:
-        print(f'error: {error}', file=sys.stderr, flush=True)
+    except (ConfigurationError, ParameterException) as error:
+        print(f'{program}: error: {error}', file=sys.stderr, flush=True)
         status = 2
     finally:
         if node is not None:
             node.destroy_node()
         rclpy.try_shutdown()
     return status
+
+
+def _init(args: list[str] | None) -> str | None:
+    """Initialize rclpy; return why rcl refused the arguments, or None.
+
+    rcl logs its own line to standard error before refusing; that output is held back and
+    shown only when initialization succeeds.
+    """
+    sys.stderr.flush()
+    saved = os.dup(2)
+    with tempfile.TemporaryFile() as held:
+        os.dup2(held.fileno(), 2)
+        try:
+            rclpy.init(args=args)
+        except rclpy_implementation.RCLError as error:
+            return re.sub(r', at \S+:\d+', '', str(error)).removeprefix('failed to initialize rcl: ')
+        finally:
+            os.dup2(saved, 2)
+            os.close(saved)
+        held.seek(0)
+        sys.stderr.buffer.write(held.read())
+        sys.stderr.flush()
+    return None

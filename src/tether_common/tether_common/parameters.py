@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
+from pathlib import Path
 
 ParamValue = bool | int | float | str | list
 
@@ -19,7 +20,13 @@ class ParamSpec:
     """One node parameter: name, default, unit, allowed range or choices.
 
     The type is the type of ``default``: bool, int, float, str, or a list of one of these
-    (an empty list default needs ``item_type``).
+    (an empty list default needs ``item_type``). A string parameter with ``file_suffix``
+    names an input file: besides one of ``choices`` (if any) or the empty string (if that is
+    the default), a value ending in ``file_suffix`` must be an existing file, relative
+    paths taken from the working directory the node and the bringup share.
+
+    A parameter is ``read_only`` unless the node applies a new value while it runs: rclpy
+    then refuses a run-time change of a value the node read once.
     """
 
     name: str
@@ -30,7 +37,8 @@ class ParamSpec:
     high: float | None = None
     choices: tuple[str, ...] = ()
     item_type: type | None = None
-    read_only: bool = False
+    read_only: bool = True
+    file_suffix: str = ''
     extra: dict = field(default_factory=dict, compare=False)
 
     @property
@@ -58,6 +66,8 @@ class ParamSpec:
             text = _type_name(kind)
         if self.choices:
             text += ' from {' + ', '.join(self.choices) + '}'
+        if self.file_suffix:
+            text += (' or' if self.choices else ' naming') + f' an existing {self.file_suffix} file'
         if self.low is not None or self.high is not None:
             low = '-inf' if self.low is None else f'{self.low:g}'
             high = 'inf' if self.high is None else f'{self.high:g}'
@@ -97,8 +107,19 @@ class ParamSpec:
                 return f'expected a finite number, got {value!r}'
             if self.low is not None and value < self.low or self.high is not None and value > self.high:
                 return f'expected {self.expected()}, got {value!r}'
+        if self.file_suffix and isinstance(value, str) and value not in self.choices:
+            return self._check_file(value)
         if self.choices and value not in self.choices:
             return f'expected {self.expected()}, got {value!r}'
+        return None
+
+    def _check_file(self, value: str) -> str | None:
+        if value == '' and self.default == '':
+            return None
+        if not value.endswith(self.file_suffix):
+            return f'expected {self.expected()}, got {value!r}'
+        if not Path(value).is_file():
+            return f'file not found: {value}'
         return None
 
 

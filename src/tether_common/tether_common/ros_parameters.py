@@ -2,6 +2,13 @@
 
 Each parameter gets a descriptor (description with unit, range, read-only flag) and an
 on-set callback rejects values outside the specification with the reason.
+
+A value given at start (``--ros-args -p``, a parameters file) is checked against the
+specification before rclpy applies the descriptor: a wrong type, an out-of-range value,
+an unknown choice or a missing file raises :class:`ConfigurationError` naming the
+parameter, the value and what is expected (the shared node main prints it as one line
+and exits with status 2). An integer given for a floating-point parameter
+(``state_rate:=50``) is accepted as that number.
 """
 
 from __future__ import annotations
@@ -10,20 +17,36 @@ from rcl_interfaces.msg import FloatingPointRange
 from rcl_interfaces.msg import IntegerRange
 from rcl_interfaces.msg import ParameterDescriptor
 from rcl_interfaces.msg import SetParametersResult
-from rclpy.exceptions import ParameterUninitializedException
 from rclpy.node import Node
 from rclpy.parameter import Parameter
 
+from tether_common.node_main import ConfigurationError
 from tether_common.parameters import ParamSpec
 from tether_common.parameters import spec_table
 
 
 def declare_parameters(node: Node, specs: tuple[ParamSpec, ...]) -> dict[str, object]:
-    """Declare every parameter of ``specs`` on ``node`` and return their current values."""
+    """Declare every parameter of ``specs`` on ``node`` and return their checked values.
+
+    Each parameter is first declared dynamically typed, so that rclpy takes any value
+    given at start; the value is checked against its specification, converted to the
+    parameter's type, and only then is the final descriptor (static type, range,
+    read-only) applied.
+    """
     table = spec_table(specs)
+    values = {}
     for spec in specs:
-        initial = spec.default if spec.default != [] else _ARRAY_TYPES[spec.element_type]
-        node.declare_parameter(spec.name, initial, _descriptor(spec))
+        node.declare_parameter(spec.name, None if spec.default == [] else spec.default,
+                               ParameterDescriptor(dynamic_typing=True))
+        value = node.get_parameter(spec.name).value
+        if value is None:
+            value = []
+        reason = spec.check(value)
+        if reason:
+            raise ConfigurationError(f'parameter {spec.name}: {reason}')
+        values[spec.name] = spec.coerce(value)
+        typed = Parameter(spec.name, _parameter_type(spec), values[spec.name])
+        node.set_descriptor(spec.name, _descriptor(spec), typed.get_parameter_value())
 
     def on_set(parameters):
         for parameter in parameters:
@@ -36,19 +59,15 @@ def declare_parameters(node: Node, specs: tuple[ParamSpec, ...]) -> dict[str, ob
         return SetParametersResult(successful=True)
 
     node.add_on_set_parameters_callback(on_set)
-    values = {}
-    for spec in specs:
-        try:
-            value = node.get_parameter(spec.name).value
-        except ParameterUninitializedException:
-            value = []
-        reason = spec.check(value)
-        if reason:
-            raise ValueError(f'parameter {spec.name}: {reason}')
-        values[spec.name] = spec.coerce(value)
     return values
 
 
+_SCALAR_TYPES = {
+    bool: Parameter.Type.BOOL,
+    int: Parameter.Type.INTEGER,
+    float: Parameter.Type.DOUBLE,
+    str: Parameter.Type.STRING,
+}
 _ARRAY_TYPES = {
     bool: Parameter.Type.BOOL_ARRAY,
     int: Parameter.Type.INTEGER_ARRAY,
@@ -57,10 +76,17 @@ _ARRAY_TYPES = {
 }
 
 
+def _parameter_type(spec: ParamSpec) -> Parameter.Type:
+    if spec.kind is list:
+        return _ARRAY_TYPES[spec.element_type]
+    return _SCALAR_TYPES[spec.kind]
+
+
 def _descriptor(spec: ParamSpec) -> ParameterDescriptor:
     description = spec.description + (f' [{spec.unit}]' if spec.unit else '')
     descriptor = ParameterDescriptor(
         description=description,
+        type=_parameter_type(spec).value,
         read_only=spec.read_only,
         additional_constraints=spec.expected(),
     )

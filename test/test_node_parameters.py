@@ -1,0 +1,152 @@
+"""Node parameters through the shared node main, with the installed executables.
+
+A wrong type, an out-of-range value, an unknown choice or a missing file given with
+``--ros-args -p`` ends the node with one line naming the parameter, the value and what is
+expected, and exit status 2; an integer for a floating-point parameter is taken as that
+number. A parameter the node reads once is read-only: setting it while the node runs is
+refused instead of silently ignored.
+"""
+
+from __future__ import annotations
+
+import subprocess
+import sys
+from pathlib import Path
+
+import domain_coordinator
+import pytest
+import rclpy
+from ament_index_python.packages import get_package_prefix
+from rcl_interfaces.msg import ParameterType
+from rclpy.parameter import Parameter
+from rclpy.parameter_client import AsyncParameterClient
+
+from tether_bringup.recorder_params import PARAMETERS as RECORDER_PARAMETERS
+
+NODES = Path(__file__).resolve().parent / 'nodes'
+
+
+def _program(package: str, executable: str) -> str:
+    return str(Path(get_package_prefix(package)) / 'lib' / package / executable)
+
+
+PLATFORM = _program('psr_platform_sim', 'platform')
+RECORDER = _program('tether_bringup', 'recorder')
+FAST_PLATFORM = ['-p', 'table_steps:=60', '-p', 'profile_duration:=2.0', '-p', 'profile:=still']
+
+BAD = [
+    ('platform out of range', PLATFORM, ['state_rate:=5000.0'],
+     'platform: error: parameter state_rate: expected a number in [1, 1000] (Hz), got 5000.0'),
+    ('platform wrong type', PLATFORM, ['state_rate:=fast'],
+     "platform: error: parameter state_rate: expected a number in [1, 1000] (Hz), got 'fast'"),
+    ('platform float for int', PLATFORM, ['seed:=1.5'],
+     'platform: error: parameter seed: expected an integer in [0, 2.14748e+09], got 1.5'),
+    ('platform unknown choice', PLATFORM, ['profile:=hpr9'],
+     'platform: error: parameter profile: expected a string from {jonswap, boat, hpr1, hpr2, hpr3, still, '
+     "workspace} or an existing .csv file, got 'hpr9'"),
+    ('platform missing file', PLATFORM, ['profile:=/no/such/heave.csv'],
+     'platform: error: parameter profile: file not found: /no/such/heave.csv'),
+    ('platform list item', PLATFORM, ['reel_offset:=[fore, port, up]'],
+     "platform: error: parameter reel_offset: expected a list of a number (m), got 'fore'"),
+    ('list rcl cannot parse', PLATFORM, ['reel_offset:=[0.0, fore, 1.0]'],
+     "platform: error: invalid --ros-args: Couldn't parse parameter override rule: '-p reel_offset:=[0.0, fore, "
+     "1.0]'. Error: Sequence should be of same type. Value type 'string' do not belong at line_num 1"),
+    ('rclpy parameter', PLATFORM, ['use_sim_time:=1'],
+     "platform: error: Trying to set parameter 'use_sim_time' to '1' of type 'INTEGER', expecting type 'BOOL': "
+     'use_sim_time'),
+    ('recorder out of range', RECORDER, ['flush_period:=100.0'],
+     'recorder: error: parameter flush_period: expected a number in [0.05, 10] (s), got 100.0'),
+    ('recorder wrong list', RECORDER, ['exclude:=[1, 2]'],
+     'recorder: error: parameter exclude: expected a list of a string, got 1'),
+    ('node without specification', sys.executable, ['rate:=fast'],
+     "talker_double.py: error: Trying to set parameter 'rate' to 'fast' of type 'STRING', expecting type "
+     "'DOUBLE': rate"),
+]
+
+
+@pytest.fixture
+def ros_domain(monkeypatch):
+    """A ROS_DOMAIN_ID reserved for this test alone."""
+    with domain_coordinator.domain_id() as domain:
+        monkeypatch.setenv('ROS_DOMAIN_ID', str(domain))
+        monkeypatch.setenv('ROS_AUTOMATIC_DISCOVERY_RANGE', 'LOCALHOST')
+        yield domain
+
+
+def _command(program: str, *arguments: str) -> list[str]:
+    script = [str(NODES / 'talker_double.py')] if program == sys.executable else []
+    return [program, *script, '--ros-args', *arguments]
+
+
+@pytest.mark.parametrize('program, values, expected', [b[1:] for b in BAD], ids=[b[0] for b in BAD])
+def test_bad_parameter_gives_one_line_and_status_2(ros_domain, tmp_path, program, values, expected):
+    arguments = [item for value in values for item in ('-p', value)]
+    result = subprocess.run(_command(program, *arguments, '-p', f'cache_dir:={tmp_path}')
+                            if program == PLATFORM else _command(program, *arguments),
+                            capture_output=True, text=True, timeout=120, cwd=tmp_path)
+    assert result.returncode == 2, result.stderr
+    assert result.stderr.strip().splitlines() == [expected]
+
+
+def _parameter_client(node_name: str, timeout: float = 120.0):
+    rclpy.init()
+    probe = rclpy.create_node('parameter_probe')
+    client = AsyncParameterClient(probe, node_name)
+    assert client.wait_for_services(timeout_sec=timeout), f'{node_name} offers no parameter services'
+    return probe, client
+
+
+def _call(probe, future):
+    rclpy.spin_until_future_complete(probe, future, timeout_sec=30.0)
+    assert future.done()
+    return future.result()
+
+
+def _stop(process: subprocess.Popen) -> str:
+    process.send_signal(2)
+    _, err = process.communicate(timeout=60)
+    assert process.returncode == 0, err
+    return err
+
+
+def test_integer_for_a_double_is_taken_as_that_number_and_read_only_is_refused(ros_domain, tmp_path):
+    process = subprocess.Popen(_command(PLATFORM, '-p', 'state_rate:=50', '-p', f'cache_dir:={tmp_path}',
+                                        *FAST_PLATFORM), stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    try:
+        probe, client = _parameter_client('/platform')
+        try:
+            value = _call(probe, client.get_parameters(['state_rate'])).values[0]
+            assert (value.type, value.double_value) == (ParameterType.PARAMETER_DOUBLE, 50.0)
+            result = _call(probe, client.set_parameters([Parameter('state_rate', value=20.0)])).results[0]
+            assert not result.successful
+            assert 'read-only' in result.reason
+            described = _call(probe, client.describe_parameters(['state_rate'])).descriptors[0]
+            assert described.read_only and described.floating_point_range[0].to_value == 1000.0
+        finally:
+            probe.destroy_node()
+            rclpy.shutdown()
+        assert process.poll() is None, process.communicate()[1]
+    finally:
+        if process.poll() is None:
+            _stop(process)
+
+
+def test_recorder_parameters_read_once_are_read_only(ros_domain, tmp_path):
+    process = subprocess.Popen(_command(RECORDER, '-p', f'bag_directory:={tmp_path / "bag"}'),
+                               stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    try:
+        probe, client = _parameter_client('/recorder')
+        try:
+            names = [spec.name for spec in RECORDER_PARAMETERS]
+            results = _call(probe, client.set_parameters(
+                [Parameter(spec.name, value=spec.default if spec.default != [] else ['x']) for spec in
+                 RECORDER_PARAMETERS])).results
+            refused = {name: result.reason for name, result in zip(names, results) if not result.successful}
+            assert set(refused) == set(names), refused
+            assert all('read-only' in reason for reason in refused.values())
+        finally:
+            probe.destroy_node()
+            rclpy.shutdown()
+    finally:
+        if process.poll() is None:
+            _stop(process)
