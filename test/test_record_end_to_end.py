@@ -22,6 +22,7 @@ from rosbags.highlevel import AnyReader
 
 from tether_bringup.bag_info import flatten
 from tether_bringup.bag_reader import read_bag
+from tether_bringup.msgdef import type_hash
 
 from tethersim_testing import SCENES
 from tethersim_testing import processes_of
@@ -118,7 +119,7 @@ def test_file_has_rosbag2_layout(recorded):
     channels = {c.topic: c for c in summary.channels.values()}
     for channel in channels.values():
         assert channel.message_encoding == 'cdr'
-        assert channel.metadata['topic_type_hash'].startswith('RIHS01_') or channel.topic == '/clock'
+        assert channel.metadata['topic_type_hash'] == type_hash(summary.schemas[channel.schema_id].name)
     imu_qos = yaml.safe_load(channels['/test/imu'].metadata['offered_qos_profiles'])
     estimate_qos = yaml.safe_load(channels['/test/estimate'].metadata['offered_qos_profiles'])
     state_qos = yaml.safe_load(channels['/test/uav_state'].metadata['offered_qos_profiles'])

@@ -2,16 +2,21 @@
 
 from __future__ import annotations
 
+import domain_coordinator
+import rclpy
 import yaml
+from mcap.reader import make_reader
 from rclpy.serialization import serialize_message
 from rosbags.highlevel import AnyReader
 
 from geometry_msgs.msg import PointStamped
+from rosgraph_msgs.msg import Clock
 from tether_bringup.bag_reader import read_bag
 from tether_bringup.bag_writer import BagWriter
 from tether_bringup.bag_writer import QosRecord
 from tether_bringup.bag_writer import dump_qos_profiles
 from tether_bringup.bag_writer import load_qos_profiles
+from tether_bringup.recorder_node import type_hash_string
 from tether_msgs.msg import ReelState
 
 
@@ -62,3 +67,33 @@ def test_unflushed_writer_leaves_readable_prefix(tmp_path):
     bag = read_bag(tmp_path / 'bag')
     assert not bag.complete
     assert bag.topics['/point'].count == 3
+
+
+def test_every_channel_carries_the_type_hash_rclpy_reports(tmp_path, monkeypatch):
+    """A topic registered without its publisher's hash (/clock) gets the installed type's
+    RIHS01 hash, the same one rclpy reports for a publisher of that type."""
+    with domain_coordinator.domain_id() as domain:
+        monkeypatch.setenv('ROS_DOMAIN_ID', str(domain))
+        context = rclpy.Context()
+        rclpy.init(context=context)
+        try:
+            node = rclpy.create_node('hash_probe', context=context)
+            node.create_publisher(Clock, '/clock', 1)
+            node.create_publisher(ReelState, '/reel/state', 1)
+            reported = {topic: type_hash_string(node.get_publishers_info_by_topic(topic)[0].topic_type_hash)
+                        for topic in ('/clock', '/reel/state')}
+            node.destroy_node()
+        finally:
+            rclpy.shutdown(context=context)
+    writer = BagWriter(tmp_path / 'bag')
+    writer.add_topic('/clock', 'rosgraph_msgs/msg/Clock', [QosRecord()])
+    writer.add_topic('/reel/state', 'tether_msgs/msg/ReelState', [QosRecord()])
+    writer.close()
+    with open(tmp_path / 'bag' / 'bag_0.mcap', 'rb') as stream:
+        channels = {c.topic: c.metadata['topic_type_hash'] for c in make_reader(stream).get_summary().channels.values()}
+    assert reported['/clock'].startswith('RIHS01_')
+    assert channels == reported
+    metadata = yaml.safe_load((tmp_path / 'bag' / 'metadata.yaml').read_text())['rosbag2_bagfile_information']
+    hashes = {t['topic_metadata']['name']: t['topic_metadata']['type_description_hash']
+              for t in metadata['topics_with_message_count']}
+    assert hashes == reported

@@ -24,6 +24,7 @@ from mcap.writer import CompressionType
 from mcap.writer import Writer
 
 from tether_bringup.msgdef import concatenated_definition
+from tether_bringup.msgdef import type_hash as installed_type_hash
 
 INFINITE = {'sec': 9223372036, 'nsec': 854775807}
 ROS_DISTRO = 'jazzy'
@@ -109,9 +110,14 @@ class BagWriter:
         return self._topics
 
     def add_topic(self, name: str, type_name: str, qos: list[QosRecord], type_hash: str = '') -> None:
-        """Register a topic; its schema is the installed concatenated ``.msg`` definition."""
+        """Register a topic; its schema is the installed concatenated ``.msg`` definition.
+
+        ``type_hash`` is the publisher's RIHS01 hash; without one (``/clock``, subscribed
+        before any publisher exists) the installed type description's hash is written.
+        """
         if name in self._topics:
             return
+        type_hash = type_hash or installed_type_hash(type_name)
         schema_id = self._schemas.get(type_name)
         if schema_id is None:
             schema_id = self._writer.register_schema(

@@ -4,10 +4,14 @@ The top-level ``.msg`` text comes first; then every type it depends on, depth fi
 preceded by a line of 80 ``=`` and a line ``MSG: pkg/Type`` (rosbag2's
 ``LocalMessageDefinitionSource``). The text is the installed ``.msg`` file itself, so the
 units and frames written in its comments travel with the bag.
+
+:func:`type_hash` reads a type's RIHS01 hash (REP-2011) from the type description
+``.json`` that rosidl installs beside the ``.msg`` file.
 """
 
 from __future__ import annotations
 
+import json
 import re
 from pathlib import Path
 
@@ -35,6 +39,20 @@ def msg_file(type_name: str) -> Path:
     if not path.is_file():
         raise BagError(f'no message definition {path} for type {type_name!r}')
     return path
+
+
+def type_hash(type_name: str) -> str:
+    """Return the ``RIHS01_<hex>`` hash of ``pkg/msg/Type`` from its installed type description."""
+    package, _, name = _split(type_name)
+    path = msg_file(type_name).with_suffix('.json')
+    try:
+        hashes = json.loads(path.read_text())['type_hashes']
+    except (OSError, ValueError, KeyError, TypeError):
+        raise BagError(f'no type description with hashes in {path} for type {type_name!r}') from None
+    for entry in hashes:
+        if entry.get('type_name') == f'{package}/msg/{name}':
+            return entry['hash_string']
+    raise BagError(f'{path} holds no hash of {package}/msg/{name}')
 
 
 def dependencies(text: str, package: str) -> list[str]:
