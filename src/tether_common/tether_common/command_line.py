@@ -11,6 +11,7 @@ import argparse
 import math
 import sys
 from collections.abc import Callable
+from pathlib import Path
 
 
 class UsageError(Exception):
@@ -42,15 +43,22 @@ def run_analysis(prog: str, parser: argparse.ArgumentParser, argv: list[str] | N
                  user_errors: tuple[type[Exception], ...] = ()) -> int:
     """Parse ``argv``, run ``command``, write its text to ``<out>/summary.txt`` and print it.
 
-    ``args.out`` is created first. Returns 0, or 2 after a one-line error for a
-    :class:`UsageError`, one of ``user_errors`` or an OS error on the files.
+    ``args.out`` is created first; a command refused for a user mistake removes the
+    directories it created while they are still empty, so bad input leaves nothing behind.
+    Returns 0, or 2 after a one-line error for a :class:`UsageError`, one of
+    ``user_errors`` or an OS error on the files.
     """
+    created: list[Path] = []
     try:
         args = parser.parse_args(argv)
+        created = [path for path in (args.out, *args.out.parents) if not path.exists()]
         args.out.mkdir(parents=True, exist_ok=True)
         text = command(args).rstrip('\n') + '\n'
         (args.out / 'summary.txt').write_text(text, encoding='utf-8')
     except (UsageError, *user_errors) as error:
+        for path in created:
+            if path.is_dir() and not any(path.iterdir()):
+                path.rmdir()
         print(f'{prog}: error: {error}', file=sys.stderr)
         return 2
     except OSError as error:

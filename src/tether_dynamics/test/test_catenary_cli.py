@@ -34,9 +34,11 @@ def test_reference_prints_the_envelope_comparison(tmp_path: Path,
 
 @pytest.mark.parametrize('argv', [['analyze', '--step', '-1'], ['analyze', '--lengths', '3'],
                                   ['frobnicate'], ['analyze', '--full', '--quick']])
-def test_user_mistakes_give_one_line_and_status_2(argv: list[str],
+def test_user_mistakes_give_one_line_and_status_2(argv: list[str], tmp_path: Path,
                                                   capsys: pytest.CaptureFixture[str]) -> None:
-    assert catenary_cli.main(argv) == 2
+    out = tmp_path / 'runs' / 'analyze'
+    assert catenary_cli.main([*argv, '--out', str(out)] if argv != ['frobnicate'] else argv) == 2
     err = capsys.readouterr().err.strip()
     assert err.startswith('tethersim catenary: error:')
     assert '\n' not in err
+    assert not (tmp_path / 'runs').exists()

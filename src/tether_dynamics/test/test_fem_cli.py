@@ -21,7 +21,10 @@ def test_pendulum_writes_plots_and_summary(tmp_path: Path, capsys: pytest.Captur
 
 @pytest.mark.parametrize('argv', [['pendulum', '--elements', 'cubic'], ['pendulum', '--dt', '-1'],
                                   ['pendulum', '--n', 'x'], ['nosuch']])
-def test_user_mistakes_exit_2_with_one_line(argv: list[str], capsys: pytest.CaptureFixture[str]) -> None:
-    assert fem_cli.main(argv) == 2
+def test_user_mistakes_exit_2_with_one_line(argv: list[str], tmp_path: Path,
+                                            capsys: pytest.CaptureFixture[str]) -> None:
+    out = tmp_path / 'runs' / 'pendulum'
+    assert fem_cli.main([*argv, '--out', str(out)] if argv != ['nosuch'] else argv) == 2
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and err[0].startswith('tethersim fem: error:')
+    assert not (tmp_path / 'runs').exists()
