@@ -57,9 +57,10 @@ def test_prescribed_spool_rate_pays_out_radius_times_rate() -> None:
     plant = _plant(reel=ReelConfig(input='spool_rate', spool_radius=0.05))
     for k in range(201):
         out = plant.step(0.01 * k, PlantInputs(uav_position=UAV, spool_rate=4.0))
-    assert out.deployed_length == pytest.approx(40.0 + 0.05 * 4.0 * 2.0, rel=1e-12)
+    # Within the first call the rate ramps from rest to the command (the spool rate is continuous).
+    assert out.deployed_length == pytest.approx(40.0 + 0.05 * 4.0 * 2.0, abs=0.05 * 4.0 * 0.01)
     assert out.payout_rate == pytest.approx(0.2)
-    assert out.spool_angle == pytest.approx(8.0)
+    assert out.spool_angle == pytest.approx(8.0, abs=0.04)
     mass0 = MU * 150.0
     assert abs(out.total_tether_mass - mass0) <= 1e-12 * mass0
 

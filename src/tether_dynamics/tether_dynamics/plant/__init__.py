@@ -39,7 +39,9 @@ Timing: the first ``step`` sets the initial state; each later ``step(t, ...)`` a
 from the previous call to t in internal steps of at most ``dt``. Kinematic inputs (platform
 pose, prescribed UAV pose) are samples at t, followed between calls by cubic Hermite
 interpolation of position and velocity; commands (reel torque or spool rate, thrust,
-torque) act from the call that gives them until the next one (one call of delay).
+torque) act from the call that gives them until the next one (one call of delay). A
+spool-rate command is reached linearly over that interval from the spool's current rate,
+so a prescribed spool rate stays continuous (no infinite acceleration at the reel).
 
 Fidelity: 'quasi_static' solves the elastic catenary of the deployed length every internal
 step (:mod:`.quasi_static`); the winch and a dynamic UAV are integrated against its end

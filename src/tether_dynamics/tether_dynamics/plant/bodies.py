@@ -34,7 +34,8 @@ RS_ANGLE, RS_RATE, RS_LENGTH, RS_WORK, RS_TORQUE, RS_STOP = range(6)
 
 @njit(cache=True)
 def reel_step(rs, rp, torque_input, command, tension, dt):
-    """Advance the winch by dt under the tether tension at the guide way; returns the payout rate.
+    """Advance the winch by dt under the tether tension at the guide way; returns the change
+    of deployed length over the step divided by dt (the payout rate, cut at an end stop).
 
     ``torque_input``: the command is the motor torque (N m); else it is the spool rate (rad/s).
     The deployed length stops at [min, max] (the spool then stands still).
@@ -48,7 +49,8 @@ def reel_step(rs, rp, torque_input, command, tension, dt):
     else:
         rate = command
         torque = j_eff * (rate - old) / dt - d * tension + rp[RP_FRICTION] * rate
-    length = rs[RS_LENGTH] + dt * d * rate
+    old_length = rs[RS_LENGTH]
+    length = old_length + dt * d * rate
     stop = 0.0
     if length >= rp[RP_MAX] and rate >= 0.0:
         length, rate, stop = rp[RP_MAX], 0.0, 1.0
@@ -60,7 +62,7 @@ def reel_step(rs, rp, torque_input, command, tension, dt):
     rs[RS_LENGTH] = length
     rs[RS_TORQUE] = torque
     rs[RS_STOP] = stop
-    return d * rate
+    return (length - old_length) / dt
 
 
 @njit(cache=True)

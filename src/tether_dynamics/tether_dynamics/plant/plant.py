@@ -7,7 +7,7 @@ import math
 import numpy as np
 
 from tether_dynamics.plant import bodies, quasi_static
-from tether_dynamics.plant.config import PlantConfig, PlantConfigError
+from tether_dynamics.plant.config import PlantConfig
 from tether_dynamics.plant.ends import Sample, hermite, hermite_table, point_on_body, quaternion_rotation
 from tether_dynamics.plant.io import PlantInputs, PlantOutputs
 
@@ -54,8 +54,9 @@ class TetherPlant:
         self._nodes_prev: np.ndarray | None = None
         self._fem = None
         if cfg.fidelity != 'quasi_static':
-            msg = f"fidelity {cfg.fidelity!r}: the finite-element moving reel is not in this version; use 'quasi_static'"
-            raise PlantConfigError(msg)
+            from tether_dynamics.plant.fem_reel import FemTether  # noqa: PLC0415 - loads compiled kernels
+
+            self._fem = FemTether(cfg)
 
     # ----------------------------------------------------------------- inputs
     def _samples(self, t: float, inputs: PlantInputs) -> tuple[Sample, Sample | None, float]:
@@ -131,13 +132,15 @@ class TetherPlant:
             self._fem.advance(t_a, t_b, n_sub, g_tab, u_tab, self._rs, self._rp, torque_input, self._command,
                               self._body, self._thrust, self._torque)
             return
+        rate0 = float(self._rs[bodies.RS_RATE])
         for k in range(1, n_sub + 1):
             t_k = t_a + k * dt
+            command = self._command if torque_input else rate0 + (self._command - rate0) * k / n_sub
             a, _ = hermite(g_tab, t_a, t_b, t_k - dt)
             b = hermite(u_tab, t_a, t_b, t_k - dt)[0] if u_tab is not None else self._attach()[0]
             t_a, t_b, tangent_b = quasi_static.end_tensions(a, b, self._rs[bodies.RS_LENGTH], cfg.mass_per_length,
                                                             cfg.ea, cfg.gravity)
-            bodies.reel_step(self._rs, self._rp, torque_input, self._command, t_a, dt)
+            bodies.reel_step(self._rs, self._rp, torque_input, command, t_a, dt)
             if u_tab is None:
                 force = -t_b * tangent_b
                 bodies.body_step(self._body, cfg.uav.mass, self._inertia, self._inertia_inv, self._rho,
@@ -188,12 +191,9 @@ class TetherPlant:
             fem = self._fem
             nodes, vel, tensions, arc = fem.nodes(), fem.velocities(), fem.tensions(), fem.arc_length()
             element_rest = np.diff(arc)
-            e_a = nodes[1] - nodes[0]
-            e_b = nodes[-1] - nodes[-2]
-            e_a /= max(np.linalg.norm(e_a), 1e-300)
-            e_b /= max(np.linalg.norm(e_b), 1e-300)
-            t_a, t_b = float(tensions[0]), float(tensions[-1])
-            f_reel, f_uav = t_a * e_a, -t_b * e_b
+            f_reel, f_uav = fem.end_forces(tensions)
+            t_a, t_b = float(np.linalg.norm(f_reel)), float(tensions[-1])
+            e_a, e_b = nodes[1] - nodes[0], nodes[-1] - nodes[-2]
             alpha = math.atan2(e_a[2], math.hypot(e_a[0], e_a[1]))
             beta = math.atan2(e_b[2], math.hypot(e_b[0], e_b[1]))
             lowest = fem.lowest_point()

@@ -1,0 +1,416 @@
+"""Compiled stepping of the finite-element tether with a moving reel (see :mod:`.fem_reel`).
+
+Lumped-mass linear elements, node 0 at the guide way (kinematic), the last node at the
+UAV attachment point (kinematic: prescribed, or carried by the UAV body), symplectic
+Euler time stepping. The reel element (element 0, between the guide way and node 1) takes
+the deployed length's change; how the mesh follows it is chosen by ``method``:
+
+0 'ale'           the reel element's rest length follows L; material joining node 1's lump
+                  brings its momentum (velocity u0 at the guide way); exact split at
+                  SPLIT * h, momentum-conserving merge below MERGE * h.
+1 'last_element'  only the reel element's rest length changes (MoorDyn-F's DeltaL).
+2 'uniform'       every element is reset to L / N each step (MoorDyn-C, KiteModels).
+3 'insert'        whole elements of length h are inserted or removed at the reel end when
+                  the paid-out length reaches h (the undeployed remainder is massless).
+
+Index constants name every slot of the integer (``st``) and float (``fp``) parameter
+vectors and of the accumulators (``acc``); they live here because numba freezes them into
+the cached code, and its cache is keyed on this file.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numba import njit
+
+from tether_dynamics.plant.bodies import RP_RADIUS, RS_LENGTH, RS_RATE, body_attach, body_step, reel_step
+
+METHOD_ALE, METHOD_LAST, METHOD_UNIFORM, METHOD_INSERT = range(4)
+METHODS = {'ale': METHOD_ALE, 'last_element': METHOD_LAST, 'uniform': METHOD_UNIFORM, 'insert': METHOD_INSERT}
+SPLIT = 1.5
+MERGE = 0.25
+
+# st (int64): nodes in use, method, torque input, dynamic UAV, drag on, wind on, kv on, splits, merges, status.
+(ST_NODES, ST_METHOD, ST_TORQUE, ST_BODY, ST_DRAG, ST_WIND, ST_KV, ST_SPLITS, ST_MERGES, ST_STATUS) = range(10)
+ST_SIZE = 10
+STATUS_OK, STATUS_FULL, STATUS_NONFINITE, STATUS_SHORT = 0, 1, 2, 3
+# fp (float64): EA, mu, h, g, diameter, Cd normal, Cd tangential, air density, Kelvin-Voigt c,
+# wind (3), reel command, thrust, pending length ('insert'), UAV mass, the last step's payout rate,
+# the reel command of the previous call (a spool-rate command ramps from it over the call).
+(FP_EA, FP_MU, FP_H, FP_G, FP_DIAMETER, FP_CDN, FP_CDT, FP_RHO, FP_KV, FP_WIND, FP_COMMAND, FP_THRUST,
+ FP_PENDING, FP_UAV_MASS, FP_PAYOUT, FP_COMMAND_PREV) = (0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 12, 13, 14, 15, 16, 17)
+FP_SIZE = 18
+# acc (float64): energy flows into the deployed tether (J): through the moving ends, the
+# rest-length change, the mass change of the free lumps (with the inflow's momentum), drag,
+# Kelvin-Voigt dissipation, and the energy change of mesh splits and merges; then the
+# largest change of the reel tension from one step to the next (N) and the last reel tension.
+ACC_ENDS, ACC_REST, ACC_MASS, ACC_DRAG, ACC_KV, ACC_RESHAPE, ACC_JUMP, ACC_LAST_T = range(8)
+ACC_SIZE = 8
+
+
+@njit(cache=True)
+def _hermite(tab, t_a, t_b, t, pos, vel):
+    """Cubic Hermite point of tab = [p_a, v_a, p_b, v_b] over [t_a, t_b] at t."""
+    h = t_b - t_a
+    u = (t - t_a) / h
+    u2, u3 = u * u, u * u * u
+    h00, h10, h01, h11 = 2 * u3 - 3 * u2 + 1, u3 - 2 * u2 + u, -2 * u3 + 3 * u2, u3 - u2
+    d00, d10, d01, d11 = (6 * u2 - 6 * u) / h, 3 * u2 - 4 * u + 1, (-6 * u2 + 6 * u) / h, 3 * u2 - 2 * u
+    for c in range(3):
+        pos[c] = h00 * tab[0, c] + h10 * h * tab[1, c] + h01 * tab[2, c] + h11 * h * tab[3, c]
+        vel[c] = d00 * tab[0, c] + d10 * tab[1, c] + d01 * tab[2, c] + d11 * tab[3, c]
+
+
+@njit(cache=True)
+def element_tensions(x, v, rest, n, fp, kv_on, u0, out):
+    """Tension of each element (elastic + Kelvin-Voigt, zero when slack) into out[:n - 1];
+    element 0's strain rate uses the material velocity u0 at the guide way."""
+    ea, c_kv = fp[FP_EA], fp[FP_KV]
+    for e in range(n - 1):
+        d0 = x[e + 1, 0] - x[e, 0]
+        d1 = x[e + 1, 1] - x[e, 1]
+        d2 = x[e + 1, 2] - x[e, 2]
+        length = np.sqrt(d0 * d0 + d1 * d1 + d2 * d2)
+        eps = length / rest[e] - 1.0
+        if eps <= 0.0:
+            out[e] = 0.0
+            continue
+        t = ea * eps
+        if kv_on:
+            if e == 0:
+                w0, w1, w2 = v[1, 0] - u0[0], v[1, 1] - u0[1], v[1, 2] - u0[2]
+            else:
+                w0, w1, w2 = v[e + 1, 0] - v[e, 0], v[e + 1, 1] - v[e, 1], v[e + 1, 2] - v[e, 2]
+            t += c_kv * (d0 * w0 + d1 * w1 + d2 * w2) / (length * rest[e])
+            if t < 0.0:
+                t = 0.0
+        out[e] = t
+
+
+@njit(cache=True)
+def end_forces(x, rest, n, tens, fp, force_reel, force_uav):
+    """Forces of the tether on the guide way (the exit tension along the reel element) and on the
+    UAV attachment point (the last element's tension plus the weight of the last node's lump,
+    half the last element, which hangs on the UAV)."""
+    e_last = n - 2
+    t_exit = exit_tension(x, rest, tens, fp)
+    d0 = np.sqrt((x[1, 0] - x[0, 0]) ** 2 + (x[1, 1] - x[0, 1]) ** 2 + (x[1, 2] - x[0, 2]) ** 2)
+    dl = np.sqrt((x[n - 1, 0] - x[e_last, 0]) ** 2 + (x[n - 1, 1] - x[e_last, 1]) ** 2
+                 + (x[n - 1, 2] - x[e_last, 2]) ** 2)
+    for c in range(3):
+        force_reel[c] = t_exit * (x[1, c] - x[0, c]) / d0 if d0 > 0.0 else 0.0
+        force_uav[c] = -tens[e_last] * (x[n - 1, c] - x[e_last, c]) / dl if dl > 0.0 else 0.0
+    force_uav[2] -= 0.5 * fp[FP_MU] * fp[FP_G] * rest[e_last]
+
+
+@njit(cache=True)
+def _drag(x, v, n, fp, wind_on, f):
+    """Air drag on each element at its midpoint (normal and tangential), half to each node."""
+    half_rho_d = 0.5 * fp[FP_RHO] * fp[FP_DIAMETER]
+    for e in range(n - 1):
+        t0, t1, t2 = x[e + 1, 0] - x[e, 0], x[e + 1, 1] - x[e, 1], x[e + 1, 2] - x[e, 2]
+        length = np.sqrt(t0 * t0 + t1 * t1 + t2 * t2)
+        if length == 0.0:
+            continue
+        e0, e1, e2 = t0 / length, t1 / length, t2 / length
+        u0 = -0.5 * (v[e, 0] + v[e + 1, 0])
+        u1 = -0.5 * (v[e, 1] + v[e + 1, 1])
+        u2 = -0.5 * (v[e, 2] + v[e + 1, 2])
+        if wind_on:
+            u0 += fp[FP_WIND]
+            u1 += fp[FP_WIND + 1]
+            u2 += fp[FP_WIND + 2]
+        ut = u0 * e0 + u1 * e1 + u2 * e2
+        n0, n1, n2 = u0 - ut * e0, u1 - ut * e1, u2 - ut * e2
+        unm = np.sqrt(n0 * n0 + n1 * n1 + n2 * n2)
+        kn = half_rho_d * length * fp[FP_CDN] * unm
+        kt = half_rho_d * length * np.pi * fp[FP_CDT] * abs(ut)
+        for c, (nc, ec) in enumerate(((n0, e0), (n1, e1), (n2, e2))):
+            fc = 0.5 * (kn * nc + kt * ut * ec)
+            f[e, c] += fc
+            f[e + 1, c] += fc
+
+
+@njit(cache=True)
+def energy(x, v, rest, n, fp):
+    """Mechanical energy of the deployed tether as the balance counts it (J): kinetic energy
+    of the free nodes' lumps, strain energy, and the gravitational energy of every element
+    (exact for the linear field: mu l g (z_a + z_b) / 2)."""
+    mu, ea, g = fp[FP_MU], fp[FP_EA], fp[FP_G]
+    e_sum = 0.0
+    for e in range(n - 1):
+        d0 = x[e + 1, 0] - x[e, 0]
+        d1 = x[e + 1, 1] - x[e, 1]
+        d2 = x[e + 1, 2] - x[e, 2]
+        eps = np.sqrt(d0 * d0 + d1 * d1 + d2 * d2) / rest[e] - 1.0
+        if eps > 0.0:
+            e_sum += 0.5 * ea * rest[e] * eps * eps
+        e_sum += mu * rest[e] * g * 0.5 * (x[e, 2] + x[e + 1, 2])
+    for i in range(1, n - 1):
+        m = 0.5 * mu * (rest[i - 1] + rest[i])
+        e_sum += 0.5 * m * (v[i, 0] ** 2 + v[i, 1] ** 2 + v[i, 2] ** 2)
+    return e_sum
+
+
+@njit(cache=True)
+def exit_tension(x, rest, tens, fp):
+    """Tension where the tether leaves the guide way (N): the reel element's (uniform)
+    tension carried from its midpoint to its start by the weight of the half-element,
+    T(0) = T_0 - mu g e_z l_0 / 2 (e the element's unit vector away from the guide way)."""
+    d0 = np.sqrt((x[1, 0] - x[0, 0]) ** 2 + (x[1, 1] - x[0, 1]) ** 2 + (x[1, 2] - x[0, 2]) ** 2)
+    if tens[0] <= 0.0 or d0 == 0.0:
+        return 0.0
+    t = tens[0] - 0.5 * fp[FP_MU] * fp[FP_G] * (x[1, 2] - x[0, 2]) / d0 * rest[0]
+    return t if t > 0.0 else 0.0
+
+
+@njit(cache=True)
+def _split(x, v, rest, st, fp, u0):
+    """Cut the reel element at rest length l_a = rest[0] - h from the guide way.
+
+    Mass and momentum: the new node's velocity is the material velocity interpolated at the
+    mass fraction l_a / l_0, so the lumps' momentum is unchanged. Geometry: the node lies on
+    the element's chord, so the tether's shape is unchanged; where along the chord is chosen
+    so the two new elements carry the static tension gradient of the tether's weight
+    (T_a - T_b = -mu g e_z (l_a + l_b) / 2, mean strain kept): the exit tension
+    :func:`exit_tension` is then the same before and after the cut.
+    """
+    n = st[ST_NODES]
+    if n + 1 > x.shape[0]:
+        st[ST_STATUS] = STATUS_FULL
+        return
+    h = fp[FP_H]
+    l0 = rest[0]
+    la, lb = l0 - h, h
+    lam = la / l0
+    chord = np.sqrt((x[1, 0] - x[0, 0]) ** 2 + (x[1, 1] - x[0, 1]) ** 2 + (x[1, 2] - x[0, 2]) ** 2)
+    eps = chord / l0 - 1.0
+    frac = lam
+    if eps > 0.0 and chord > 0.0:
+        grad = -fp[FP_MU] * fp[FP_G] * (x[1, 2] - x[0, 2]) / chord
+        diff = grad * 0.5 * (la + lb) / fp[FP_EA]
+        eps_a, eps_b = eps + diff * lb / l0, eps - diff * la / l0
+        if eps_a > 0.0 and eps_b > 0.0:
+            frac = la * (1.0 + eps_a) / chord
+    for i in range(n, 1, -1):
+        x[i] = x[i - 1]
+        v[i] = v[i - 1]
+    for e in range(n - 1, 0, -1):
+        rest[e] = rest[e - 1]
+    for c in range(3):
+        x[1, c] = (1.0 - frac) * x[0, c] + frac * x[2, c]
+        v[1, c] = (1.0 - lam) * u0[c] + lam * v[2, c]
+    rest[1] = lb
+    rest[0] = la
+    st[ST_NODES] = n + 1
+    st[ST_SPLITS] += 1
+
+
+@njit(cache=True)
+def _merge(x, v, rest, st, fp, u0_old, v0, payout):
+    """Join the reel element to its neighbour: node 1 is removed, the rest lengths add, and
+    node 2's velocity keeps the momentum of the lumps (u0 from the joined element after)."""
+    n = st[ST_NODES]
+    mu = fp[FP_MU]
+    l0, l1, l2 = rest[0], rest[1], rest[2] if n > 3 else 0.0
+    # Momentum before: lumps of node 0 (material velocity u0), node 1, node 2.
+    p = np.empty(3)
+    for c in range(3):
+        p[c] = 0.5 * mu * l0 * u0_old[c] + 0.5 * mu * (l0 + l1) * v[1, c] + 0.5 * mu * (l1 + l2) * v[2, c]
+    for i in range(1, n - 1):
+        x[i] = x[i + 1]
+        v[i] = v[i + 1]
+    rest[0] = l0 + l1
+    for e in range(1, n - 2):
+        rest[e] = rest[e + 1]
+    st[ST_NODES] = n - 1
+    st[ST_MERGES] += 1
+    if n - 1 <= 2:
+        return
+    lr = rest[0]
+    w1 = 0.5 * mu * (lr + l2)
+    for c in range(3):
+        u0_new = v0[c] + payout * (x[1, c] - x[0, c]) / lr
+        v[1, c] = (p[c] - 0.5 * mu * lr * u0_new) / w1
+
+
+@njit(cache=True)
+def advance(x, v, rest, st, fp, rs, rp, g_tab, u_tab, t_a, t_b, n_sub, bs, inertia, inertia_inv, rho, torque, acc):
+    """Advance the tether, the winch and (if dynamic) the UAV from t_a to t_b in n_sub steps."""
+    dt = (t_b - t_a) / n_sub
+    method = st[ST_METHOD]
+    mu, h, g = fp[FP_MU], fp[FP_H], fp[FP_G]
+    cap = x.shape[0]
+    f = np.zeros((cap, 3))
+    drag = np.zeros((cap, 3))
+    tens = np.zeros(cap)
+    p0, v0, pf, vf, u0 = np.empty(3), np.empty(3), np.empty(3), np.empty(3), np.empty(3)
+    force_uav = np.empty(3)
+    force_reel = np.empty(3)
+    payout = rp[RP_RADIUS] * rs[RS_RATE]
+    for k in range(n_sub):
+        t = t_a + k * dt
+        n = st[ST_NODES]
+        _hermite(g_tab, t_a, t_b, t, p0, v0)
+        if st[ST_BODY] == 1:
+            body_attach(bs, rho, pf, vf)
+        else:
+            _hermite(u_tab, t_a, t_b, t, pf, vf)
+        for c in range(3):
+            x[0, c], v[0, c] = p0[c], v0[c]
+            x[n - 1, c], v[n - 1, c] = pf[c], vf[c]
+        # Material velocity at the guide way: the guide way's plus the payout along the reel element.
+        d0 = np.sqrt((x[1, 0] - x[0, 0]) ** 2 + (x[1, 1] - x[0, 1]) ** 2 + (x[1, 2] - x[0, 2]) ** 2)
+        for c in range(3):
+            u0[c] = v0[c]
+            if method == METHOD_ALE:
+                u0[c] += payout * (x[1, c] - x[0, c]) / rest[0]
+        element_tensions(x, v, rest, n, fp, st[ST_KV] == 1, u0, tens)
+        t_exit = exit_tension(x, rest, tens, fp)
+        if np.isfinite(acc[ACC_LAST_T]) and abs(t_exit - acc[ACC_LAST_T]) > acc[ACC_JUMP]:
+            acc[ACC_JUMP] = abs(t_exit - acc[ACC_LAST_T])
+        acc[ACC_LAST_T] = t_exit
+        for i in range(n):
+            f[i, 0] = 0.0
+            f[i, 1] = 0.0
+            f[i, 2] = -0.5 * mu * (rest[i - 1] if i > 0 else 0.0) * g - 0.5 * mu * (rest[i] if i < n - 1 else 0.0) * g
+        for e in range(n - 1):
+            if tens[e] == 0.0:
+                continue
+            d = np.sqrt((x[e + 1, 0] - x[e, 0]) ** 2 + (x[e + 1, 1] - x[e, 1]) ** 2 + (x[e + 1, 2] - x[e, 2]) ** 2)
+            q = tens[e] / d
+            for c in range(3):
+                fc = q * (x[e + 1, c] - x[e, c])
+                f[e, c] += fc
+                f[e + 1, c] -= fc
+        if st[ST_DRAG] == 1:
+            drag[:n] = 0.0
+            _drag(x, v, n, fp, st[ST_WIND] == 1, drag)
+            for i in range(1, n - 1):
+                for c in range(3):
+                    f[i, c] += drag[i, c]
+                    acc[ACC_DRAG] += dt * drag[i, c] * v[i, c]
+        # Energy flows of this step (evaluated at its start, as the forces are).
+        e_last = n - 2
+        dl = np.sqrt((x[n - 1, 0] - x[e_last, 0]) ** 2 + (x[n - 1, 1] - x[e_last, 1]) ** 2
+                     + (x[n - 1, 2] - x[e_last, 2]) ** 2)
+        p_ends = 0.0
+        for c in range(3):
+            if d0 > 0.0:
+                p_ends -= tens[0] * (x[1, c] - x[0, c]) / d0 * v0[c]
+            if dl > 0.0:
+                p_ends += tens[e_last] * (x[n - 1, c] - x[e_last, c]) / dl * vf[c]
+        acc[ACC_ENDS] += dt * p_ends
+        end_forces(x, rest, n, tens, fp, force_reel, force_uav)
+        # Winch and UAV body.
+        command = fp[FP_COMMAND]
+        if st[ST_TORQUE] == 0:
+            command = fp[FP_COMMAND_PREV] + (command - fp[FP_COMMAND_PREV]) * (k + 1) / n_sub
+        payout = reel_step(rs, rp, st[ST_TORQUE] == 1, command, t_exit, dt)
+        fp[FP_PAYOUT] = payout
+        if st[ST_BODY] == 1:
+            body_step(bs, fp[FP_UAV_MASS], inertia, inertia_inv, rho, fp[FP_THRUST], torque, force_uav, g, dt)
+        # Rest-length rates of each element and the resulting mass rates of the free nodes.
+        n_el = n - 1
+        for i in range(1, n - 1):
+            m = 0.5 * mu * (rest[i - 1] + rest[i])
+            if method == METHOD_UNIFORM:
+                mdot = mu * payout / n_el
+            elif (method == METHOD_ALE or method == METHOD_LAST) and i == 1:
+                mdot = 0.5 * mu * payout
+            else:
+                mdot = 0.0
+            p_mass = 0.5 * mdot * (v[i, 0] ** 2 + v[i, 1] ** 2 + v[i, 2] ** 2)
+            for c in range(3):
+                a = f[i, c] / m
+                if method == METHOD_ALE and i == 1:
+                    flux = mdot * (u0[c] - v[i, c])
+                    a += flux / m
+                    p_mass += flux * v[i, c]
+                v[i, c] += dt * a
+            acc[ACC_MASS] += dt * p_mass
+        # Elastic energy released by the rest-length change, and the gravitational energy of
+        # the kinematic end lumps (they are part of the counted potential energy).
+        p_rest = 0.0
+        for e in range(n_el):
+            if method == METHOD_UNIFORM:
+                ldot = payout / n_el
+            elif (method == METHOD_ALE or method == METHOD_LAST) and e == 0:
+                ldot = payout
+            else:
+                continue
+            length = np.sqrt((x[e + 1, 0] - x[e, 0]) ** 2 + (x[e + 1, 1] - x[e, 1]) ** 2
+                             + (x[e + 1, 2] - x[e, 2]) ** 2)
+            eps = length / rest[e] - 1.0
+            if eps > 0.0:
+                p_rest -= fp[FP_EA] * eps * (1.0 + 0.5 * eps) * ldot
+            p_rest += mu * ldot * g * 0.5 * (x[e, 2] + x[e + 1, 2])
+        acc[ACC_REST] += dt * p_rest
+        # Gravity work on the end lumps is not in the balance's system: their potential
+        # energy change is an inflow.
+        acc[ACC_ENDS] += dt * g * (0.5 * mu * rest[0] * v0[2] + 0.5 * mu * rest[n_el - 1] * vf[2])
+        if st[ST_KV] == 1:
+            for e in range(n_el):
+                tk = tens[e]
+                length = np.sqrt((x[e + 1, 0] - x[e, 0]) ** 2 + (x[e + 1, 1] - x[e, 1]) ** 2
+                                 + (x[e + 1, 2] - x[e, 2]) ** 2)
+                eps = length / rest[e] - 1.0
+                if tk > 0.0 and eps > 0.0:
+                    tk -= fp[FP_EA] * eps
+                    w = 0.0
+                    for c in range(3):
+                        w += (x[e + 1, c] - x[e, c]) / length * (v[e + 1, c] - v[e, c])
+                    acc[ACC_KV] -= dt * tk * w
+        for i in range(1, n - 1):
+            for c in range(3):
+                x[i, c] += dt * v[i, c]
+        # The mesh follows the deployed length.
+        if method == METHOD_ALE or method == METHOD_LAST:
+            rest[0] += dt * payout
+            if rest[0] < 1e-6 * h:
+                st[ST_STATUS] = STATUS_SHORT
+                return
+        elif method == METHOD_UNIFORM:
+            length_now = rs[RS_LENGTH]
+            for e in range(n_el):
+                rest[e] = length_now / n_el
+        else:
+            fp[FP_PENDING] += dt * payout
+        if method == METHOD_ALE:
+            if rest[0] > SPLIT * h:
+                e_before = energy(x, v, rest, n, fp)
+                _split(x, v, rest, st, fp, u0)
+                acc[ACC_RESHAPE] += energy(x, v, rest, st[ST_NODES], fp) - e_before
+            elif rest[0] < MERGE * h and n > 3:
+                e_before = energy(x, v, rest, n, fp)
+                _merge(x, v, rest, st, fp, u0, v0, payout)
+                acc[ACC_RESHAPE] += energy(x, v, rest, st[ST_NODES], fp) - e_before
+        elif method == METHOD_INSERT:
+            if fp[FP_PENDING] >= h:
+                e_before = energy(x, v, rest, n, fp)
+                rest[0] += h
+                fp[FP_PENDING] -= h
+                _split(x, v, rest, st, fp, v0)
+                acc[ACC_RESHAPE] += energy(x, v, rest, st[ST_NODES], fp) - e_before
+            elif fp[FP_PENDING] <= -h and n > 3:
+                e_before = energy(x, v, rest, n, fp)
+                _merge(x, v, rest, st, fp, v0, v0, 0.0)
+                rest[0] -= h
+                fp[FP_PENDING] += h
+                acc[ACC_RESHAPE] += energy(x, v, rest, st[ST_NODES], fp) - e_before
+        if st[ST_STATUS] != STATUS_OK:
+            return
+        n = st[ST_NODES]
+        for c in range(3):
+            if not np.isfinite(x[1, c] + v[1, c]):
+                st[ST_STATUS] = STATUS_NONFINITE
+                return
+    n = st[ST_NODES]
+    _hermite(g_tab, t_a, t_b, t_b, p0, v0)
+    if st[ST_BODY] == 1:
+        body_attach(bs, rho, pf, vf)
+    else:
+        _hermite(u_tab, t_a, t_b, t_b, pf, vf)
+    for c in range(3):
+        x[0, c], v[0, c] = p0[c], v0[c]
+        x[n - 1, c], v[n - 1, c] = pf[c], vf[c]
