@@ -35,17 +35,22 @@ MERGE = 0.25
 ST_SIZE = 10
 STATUS_OK, STATUS_FULL, STATUS_NONFINITE, STATUS_SHORT = 0, 1, 2, 3
 # fp (float64): EA, mu, h, g, diameter, Cd normal, Cd tangential, air density, Kelvin-Voigt c,
-# wind (3), reel command, thrust, pending length ('insert'), UAV mass, the last step's payout rate,
-# the reel command of the previous call (a spool-rate command ramps from it over the call).
+# wind (3), reel command, thrust, pending length ('insert'), UAV mass, the last step's feed rate
+# into the reel element, the reel command of the previous call (a spool-rate command ramps from
+# it over the call), the rest length a merge took out of the reel element and still owes it.
 (FP_EA, FP_MU, FP_H, FP_G, FP_DIAMETER, FP_CDN, FP_CDT, FP_RHO, FP_KV, FP_WIND, FP_COMMAND, FP_THRUST,
- FP_PENDING, FP_UAV_MASS, FP_PAYOUT, FP_COMMAND_PREV) = (0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 12, 13, 14, 15, 16, 17)
-FP_SIZE = 18
+ FP_PENDING, FP_UAV_MASS, FP_PAYOUT, FP_COMMAND_PREV, FP_OWED) = (0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 12, 13, 14, 15, 16,
+                                                                 17, 18)
+FP_SIZE = 19
+# Time constant (s) over which the reel element gets back what a merge took out of it.
+PAYBACK = 0.25
 # acc (float64): energy flows into the deployed tether (J): through the moving ends, the
 # rest-length change, the mass change of the free lumps (with the inflow's momentum), drag,
 # Kelvin-Voigt dissipation, and the energy change of mesh splits and merges; then the
-# largest change of the reel tension from one step to the next (N) and the last reel tension.
-ACC_ENDS, ACC_REST, ACC_MASS, ACC_DRAG, ACC_KV, ACC_RESHAPE, ACC_JUMP, ACC_LAST_T = range(8)
-ACC_SIZE = 8
+# largest change of the reel tension from one step to the next (N), the last reel tension, and
+# the rest length merges took out of the reel element (m, summed).
+ACC_ENDS, ACC_REST, ACC_MASS, ACC_DRAG, ACC_KV, ACC_RESHAPE, ACC_JUMP, ACC_LAST_T, ACC_OWED = range(9)
+ACC_SIZE = 9
 
 
 @njit(cache=True)
@@ -207,12 +212,24 @@ def _split(x, v, rest, st, fp, u0):
 
 
 @njit(cache=True)
-def _merge(x, v, rest, st, fp, u0_old, v0, payout):
-    """Join the reel element to its neighbour: node 1 is removed, the rest lengths add, and
-    node 2's velocity keeps the momentum of the lumps (u0 from the joined element after)."""
+def _merge(x, v, rest, st, fp, u0_old, v0, payout, keep_strain):
+    """Join the reel element to its neighbour: node 1 is removed and node 2's velocity keeps
+    the momentum of the three lumps involved (u0 from the joined element after).
+
+    With ``keep_strain`` the joined element keeps the two elements' rest-length-weighted
+    mean strain: where node 1 was a kink, the straight element is shorter than the kinked
+    path, and the difference of rest length (at that strain) is taken out of it, to be fed
+    back into the reel element smoothly over the next PAYBACK seconds (the caller keeps it,
+    as deployed mass at the guide way, meanwhile): the tension stays continuous, the mass
+    and the deployed length stay exact. Returns the rest length taken out (m).
+    """
     n = st[ST_NODES]
     mu = fp[FP_MU]
     l0, l1, l2 = rest[0], rest[1], rest[2] if n > 3 else 0.0
+    c0 = np.sqrt((x[1, 0] - x[0, 0]) ** 2 + (x[1, 1] - x[0, 1]) ** 2 + (x[1, 2] - x[0, 2]) ** 2)
+    c1 = np.sqrt((x[2, 0] - x[1, 0]) ** 2 + (x[2, 1] - x[1, 1]) ** 2 + (x[2, 2] - x[1, 2]) ** 2)
+    chord = np.sqrt((x[2, 0] - x[0, 0]) ** 2 + (x[2, 1] - x[0, 1]) ** 2 + (x[2, 2] - x[0, 2]) ** 2)
+    mean_strain = (c0 + c1) / (l0 + l1) - 1.0
     # Momentum before: lumps of node 0 (material velocity u0), node 1, node 2.
     p = np.empty(3)
     for c in range(3):
@@ -220,18 +237,27 @@ def _merge(x, v, rest, st, fp, u0_old, v0, payout):
     for i in range(1, n - 1):
         x[i] = x[i + 1]
         v[i] = v[i + 1]
-    rest[0] = l0 + l1
+    merged = l0 + l1
+    owed = 0.0
+    if keep_strain and mean_strain > 0.0:
+        kept = chord / (1.0 + mean_strain)
+        if kept < merged:
+            owed = merged - kept
+            merged = kept
+    rest[0] = merged
     for e in range(1, n - 2):
         rest[e] = rest[e + 1]
     st[ST_NODES] = n - 1
     st[ST_MERGES] += 1
     if n - 1 <= 2:
-        return
+        return owed
     lr = rest[0]
     w1 = 0.5 * mu * (lr + l2)
     for c in range(3):
         u0_new = v0[c] + payout * (x[1, c] - x[0, c]) / lr
+        p[c] -= 0.5 * mu * owed * u0_old[c]
         v[1, c] = (p[c] - 0.5 * mu * lr * u0_new) / w1
+    return owed
 
 
 @njit(cache=True)
@@ -248,6 +274,7 @@ def advance(x, v, rest, st, fp, rs, rp, g_tab, u_tab, t_a, t_b, n_sub, bs, inert
     force_uav = np.empty(3)
     force_reel = np.empty(3)
     payout = rp[RP_RADIUS] * rs[RS_RATE]
+    feed = payout
     for k in range(n_sub):
         t = t_a + k * dt
         n = st[ST_NODES]
@@ -264,7 +291,7 @@ def advance(x, v, rest, st, fp, rs, rp, g_tab, u_tab, t_a, t_b, n_sub, bs, inert
         for c in range(3):
             u0[c] = v0[c]
             if method == METHOD_ALE:
-                u0[c] += payout * (x[1, c] - x[0, c]) / rest[0]
+                u0[c] += feed * (x[1, c] - x[0, c]) / rest[0]
         element_tensions(x, v, rest, n, fp, st[ST_KV] == 1, u0, tens)
         t_exit = exit_tension(x, rest, tens, fp)
         if np.isfinite(acc[ACC_LAST_T]) and abs(t_exit - acc[ACC_LAST_T]) > acc[ACC_JUMP]:
@@ -307,7 +334,11 @@ def advance(x, v, rest, st, fp, rs, rp, g_tab, u_tab, t_a, t_b, n_sub, bs, inert
         if st[ST_TORQUE] == 0:
             command = fp[FP_COMMAND_PREV] + (command - fp[FP_COMMAND_PREV]) * (k + 1) / n_sub
         payout = reel_step(rs, rp, st[ST_TORQUE] == 1, command, t_exit, dt)
-        fp[FP_PAYOUT] = payout
+        # Material entering the reel element: the payout plus what a merge still owes it.
+        payback = fp[FP_OWED] * min(dt / PAYBACK, 1.0)
+        fp[FP_OWED] -= payback
+        feed = payout + payback / dt
+        fp[FP_PAYOUT] = feed
         if st[ST_BODY] == 1:
             body_step(bs, fp[FP_UAV_MASS], inertia, inertia_inv, rho, fp[FP_THRUST], torque, force_uav, g, dt)
         # Rest-length rates of each element and the resulting mass rates of the free nodes.
@@ -315,9 +346,9 @@ def advance(x, v, rest, st, fp, rs, rp, g_tab, u_tab, t_a, t_b, n_sub, bs, inert
         for i in range(1, n - 1):
             m = 0.5 * mu * (rest[i - 1] + rest[i])
             if method == METHOD_UNIFORM:
-                mdot = mu * payout / n_el
+                mdot = mu * feed / n_el
             elif (method == METHOD_ALE or method == METHOD_LAST) and i == 1:
-                mdot = 0.5 * mu * payout
+                mdot = 0.5 * mu * feed
             else:
                 mdot = 0.0
             p_mass = 0.5 * mdot * (v[i, 0] ** 2 + v[i, 1] ** 2 + v[i, 2] ** 2)
@@ -334,9 +365,9 @@ def advance(x, v, rest, st, fp, rs, rp, g_tab, u_tab, t_a, t_b, n_sub, bs, inert
         p_rest = 0.0
         for e in range(n_el):
             if method == METHOD_UNIFORM:
-                ldot = payout / n_el
+                ldot = feed / n_el
             elif (method == METHOD_ALE or method == METHOD_LAST) and e == 0:
-                ldot = payout
+                ldot = feed
             else:
                 continue
             length = np.sqrt((x[e + 1, 0] - x[e, 0]) ** 2 + (x[e + 1, 1] - x[e, 1]) ** 2
@@ -366,7 +397,7 @@ def advance(x, v, rest, st, fp, rs, rp, g_tab, u_tab, t_a, t_b, n_sub, bs, inert
                 x[i, c] += dt * v[i, c]
         # The mesh follows the deployed length.
         if method == METHOD_ALE or method == METHOD_LAST:
-            rest[0] += dt * payout
+            rest[0] += dt * feed
             if rest[0] < 1e-6 * h:
                 st[ST_STATUS] = STATUS_SHORT
                 return
@@ -375,7 +406,7 @@ def advance(x, v, rest, st, fp, rs, rp, g_tab, u_tab, t_a, t_b, n_sub, bs, inert
             for e in range(n_el):
                 rest[e] = length_now / n_el
         else:
-            fp[FP_PENDING] += dt * payout
+            fp[FP_PENDING] += dt * feed
         if method == METHOD_ALE:
             if rest[0] > SPLIT * h:
                 e_before = energy(x, v, rest, n, fp)
@@ -383,7 +414,9 @@ def advance(x, v, rest, st, fp, rs, rp, g_tab, u_tab, t_a, t_b, n_sub, bs, inert
                 acc[ACC_RESHAPE] += energy(x, v, rest, st[ST_NODES], fp) - e_before
             elif rest[0] < MERGE * h and n > 3:
                 e_before = energy(x, v, rest, n, fp)
-                _merge(x, v, rest, st, fp, u0, v0, payout)
+                owed = _merge(x, v, rest, st, fp, u0, v0, feed, True)
+                fp[FP_OWED] += owed
+                acc[ACC_OWED] += owed
                 acc[ACC_RESHAPE] += energy(x, v, rest, st[ST_NODES], fp) - e_before
         elif method == METHOD_INSERT:
             if fp[FP_PENDING] >= h:
@@ -394,7 +427,7 @@ def advance(x, v, rest, st, fp, rs, rp, g_tab, u_tab, t_a, t_b, n_sub, bs, inert
                 acc[ACC_RESHAPE] += energy(x, v, rest, st[ST_NODES], fp) - e_before
             elif fp[FP_PENDING] <= -h and n > 3:
                 e_before = energy(x, v, rest, n, fp)
-                _merge(x, v, rest, st, fp, v0, v0, 0.0)
+                _merge(x, v, rest, st, fp, v0, v0, 0.0, False)
                 rest[0] -= h
                 fp[FP_PENDING] += h
                 acc[ACC_RESHAPE] += energy(x, v, rest, st[ST_NODES], fp) - e_before

@@ -21,19 +21,22 @@ where it can be and conservative where it cannot:
    node is put at rest length l_r - h from the guide way at the linear interpolant's
    position and material velocity. The deformed field, each element's strain (so every
    tension), the total mass and the total momentum are unchanged: no tension step.
-3. Conservative merge. When it shrinks below h / 4, node 1 is removed and node 2's velocity
-   is set so the momentum of the three lumps involved is unchanged; the mass is conserved
-   exactly (the rest lengths add). The merged element's strain is the rest-length-weighted
-   mean of the two it replaces when they are in line, and the short element carries at most
-   a fifth of it, so the tension changes by at most a fifth of the strain difference between
-   the two elements (the remaining, measured, tension step of the method).
+3. Strain-keeping merge. When it shrinks below h / 4, node 1 is removed and node 2's
+   velocity is set so the momentum of the three lumps involved is unchanged. The joined
+   element keeps the rest-length-weighted mean strain of the two it replaces: where node 1
+   was a kink (a curved tether), the straight element needs less rest length at that
+   strain than the two had; the difference (millimetres) is taken out of the reel element
+   and fed back into it over the next 0.25 s (counted meanwhile as deployed mass at the
+   guide way). Joining at equal rest length instead leaves the joined element slack on a
+   curved stiff tether (measured: the reel tension fell from 2.2 N to 0 at each merge of a
+   sagging 20 m, 20 kN tether) and it snaps back.
 
 The reel element's rest length therefore stays in [h / 4, 3 h / 2] whenever there is more
 than one element, and every other element has rest length h: the element sizes stay within
 a ratio of 6. The count follows the deployed length (L / h + 1 at most). Total tether mass,
 drum (mu (total - L)) plus deployed (mu times the sum of rest lengths), is conserved to
 rounding: the rest length added to the reel element each step is the deployed length the
-winch added in that step.
+winch added in that step (plus the merge's pay-back, already counted as deployed).
 
 Alternatives measured (``bench/reel_payout``, same profile, same step): 'last_element' -
 only the reel element's rest length changes, no split or merge (MoorDyn-F's DeltaL): the
@@ -78,6 +81,58 @@ def stable_step(config: PlantConfig) -> float:
         lump = 0.5 * config.mass_per_length * (shortest + h)
         step = min(step, lump * shortest / config.damping)
     return step
+
+
+def _discrete_equilibrium(x: np.ndarray, rest: np.ndarray, ea: float, mu: float, g: float,
+                          iterations: int = 60) -> np.ndarray:
+    """Static equilibrium of the lumped chain with both end nodes held: damped Newton on the
+    (convex) potential energy sum 1/2 EA l (|d| / l - 1)^2 (tension only) + sum m g z."""
+    x = x.copy()
+    n = x.shape[0]
+    if n < 3:
+        return x
+    lumps = np.zeros(n)
+    lumps[:-1] += 0.5 * mu * rest
+    lumps[1:] += 0.5 * mu * rest
+
+    def energy(xx: np.ndarray) -> float:
+        d = np.linalg.norm(np.diff(xx, axis=0), axis=1)
+        eps = np.maximum(d / rest - 1.0, 0.0)
+        return float(np.sum(0.5 * ea * rest * eps**2) + g * np.sum(lumps * xx[:, 2]))
+
+    for _ in range(iterations):
+        diff = np.diff(x, axis=0)
+        d = np.linalg.norm(diff, axis=1)
+        e = diff / d[:, None]
+        tension = ea * np.maximum(d / rest - 1.0, 0.0)
+        force = np.zeros((n, 3))
+        force[:-1] += tension[:, None] * e
+        force[1:] -= tension[:, None] * e
+        force[:, 2] -= lumps * g
+        grad = -force[1:-1].ravel()
+        if np.max(np.abs(grad)) < 1e-10 * ea:
+            break
+        hess = np.zeros((3 * n, 3 * n))
+        for k in range(n - 1):
+            taut = tension[k] > 0.0
+            block = (ea / rest[k] * np.outer(e[k], e[k]) + tension[k] / d[k] * (np.eye(3) - np.outer(e[k], e[k]))
+                     if taut else 1e-9 * ea / rest[k] * np.eye(3))
+            i, j = 3 * k, 3 * k + 3
+            hess[i:i + 3, i:i + 3] += block
+            hess[j:j + 3, j:j + 3] += block
+            hess[i:i + 3, j:j + 3] -= block
+            hess[j:j + 3, i:i + 3] -= block
+        h_free = hess[3:-3, 3:-3] + 1e-9 * ea / np.min(rest) * np.eye(3 * (n - 2))
+        step = -np.linalg.solve(h_free, grad).reshape(-1, 3)
+        e0, alpha = energy(x), 1.0
+        while alpha > 1e-8:
+            trial = x.copy()
+            trial[1:-1] += alpha * step
+            if energy(trial) <= e0:
+                break
+            alpha *= 0.5
+        x = trial
+    return x
 
 
 class FemTether:
@@ -129,16 +184,36 @@ class FemTether:
         return np.concatenate([[length - n_full * h], np.full(n_full, h)])
 
     def initialise(self, a: np.ndarray, b: np.ndarray, length: float) -> None:
-        """Nodes at rest on the elastic catenary of ``length`` from a (guide way) to b (UAV)."""
+        """Nodes at rest on the elastic catenary of ``length`` from a (guide way) to b (UAV).
+
+        Each node first sits at the stretched arc length its material reaches under the
+        catenary's tension, s(s0) = integral of (1 + T / EA) ds0; then Newton's method moves
+        the free nodes to the equilibrium of the discrete chain (:func:`_discrete_equilibrium`),
+        which differs from the continuous catenary by the chords' shortening on a curved
+        tether - enough, with a stiff tether, to leave elements slack or overloaded and start
+        elastic waves.
+        """
         cfg = self.config
         rest = self._rest_lengths(length)
         n = rest.size + 1
         shape = quasi_static.solve(a, b, length, cfg.mass_per_length, cfg.ea, cfg.gravity)
+        sol = shape.solution
         dense = shape.points(a, 4001)
-        frac = np.concatenate([[0.0], np.cumsum(rest)]) / length
-        s = np.linspace(0.0, 1.0, dense.shape[0])
-        self.x[:n] = np.column_stack([np.interp(frac, s, dense[:, c]) for c in range(3)])
+        arc = np.linspace(0.0, shape.stretched_length, dense.shape[0])
+        horizontal = float(sol.horizontal_tension)
+        if math.isfinite(horizontal):
+            weight = cfg.mass_per_length * length / shape.stretched_length * cfg.gravity
+            vertical = shape.tension_a * math.sin(float(sol.alpha))
+            tension = np.sqrt(horizontal**2 + (vertical + weight * arc) ** 2)
+        else:
+            tension = np.full(arc.size, cfg.ea * (shape.stretched_length / length - 1.0))
+        stretch = 1.0 / (1.0 + tension / cfg.ea)
+        material = np.concatenate([[0.0], np.cumsum(0.5 * (stretch[1:] + stretch[:-1]) * np.diff(arc))])
+        material *= length / material[-1]
+        where = np.interp(np.concatenate([[0.0], np.cumsum(rest)]), material, arc)
+        self.x[:n] = np.column_stack([np.interp(where, arc, dense[:, c]) for c in range(3)])
         self.x[n - 1] = b
+        self.x[:n] = _discrete_equilibrium(self.x[:n], rest, cfg.ea, cfg.mass_per_length, cfg.gravity)
         self.v[:] = 0.0
         self.rest[:n - 1] = rest
         self.st[fk.ST_NODES] = n
@@ -201,12 +276,14 @@ class FemTether:
         return reel, uav
 
     def arc_length(self) -> np.ndarray:
-        """(n,) unstretched distance of each node from the guide way, m."""
-        return np.concatenate([[0.0], np.cumsum(self.rest[:self.n - 1])])
+        """(n,) unstretched distance of each node from the guide way along the deployed
+        tether, m (including what a merge still owes the reel element)."""
+        return np.concatenate([[0.0], float(self.fp[fk.FP_OWED]) + np.cumsum(self.rest[:self.n - 1])])
 
     def deployed_rest_length(self) -> float:
-        """Sum of the elements' rest lengths, m (the deployed tether's mass over mu)."""
-        return float(np.sum(self.rest[:self.n - 1]))
+        """Deployed tether mass over mu, m: the elements' rest lengths plus what a merge still
+        owes the reel element (material at the guide way, fed back within a second)."""
+        return float(np.sum(self.rest[:self.n - 1])) + float(self.fp[fk.FP_OWED])
 
     def lowest_point(self) -> np.ndarray:
         """The lowest node (the lowest point of a piecewise-linear tether), m."""

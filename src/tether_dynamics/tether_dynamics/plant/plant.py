@@ -192,8 +192,12 @@ class TetherPlant:
             nodes, vel, tensions, arc = fem.nodes(), fem.velocities(), fem.tensions(), fem.arc_length()
             element_rest = np.diff(arc)
             f_reel, f_uav = fem.end_forces(tensions)
-            t_a, t_b = float(np.linalg.norm(f_reel)), float(tensions[-1])
             e_a, e_b = nodes[1] - nodes[0], nodes[-1] - nodes[-2]
+            # Element tensions are the values at the elements' midpoints; the end values carry
+            # them over the half-element's weight (as fem_kernels.exit_tension at the reel).
+            t_a = float(np.linalg.norm(f_reel))
+            t_b = float(tensions[-1]) + 0.5 * mu * g * float(e_b[2] / max(np.linalg.norm(e_b), 1e-300)) * (
+                float(arc[-1] - arc[-2])) if tensions[-1] > 0.0 else 0.0
             alpha = math.atan2(e_a[2], math.hypot(e_a[0], e_a[1]))
             beta = math.atan2(e_b[2], math.hypot(e_b[0], e_b[1]))
             lowest = fem.lowest_point()

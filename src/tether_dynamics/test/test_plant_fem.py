@@ -1,0 +1,220 @@
+"""The tether plant's finite-element moving reel (tether_dynamics.plant.fem_reel): payout and
+reel-in with an end mass, long payout and back, sinusoidal payout, payout on a heaving and
+rolling boat, settling onto the catenary, and a hovering UAV."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+from scipy.spatial.transform import Rotation
+
+from tether_dynamics.fem.scenes import boat_motion
+from tether_dynamics.plant import PlantConfig, PlantConfigError, PlantInputs, ReelConfig, TetherPlant, UavConfig
+from tether_dynamics.plant import quasi_static
+
+MU, EA, G, MASS = 0.042, 2.0e4, 9.81, 1.0
+
+
+def _smooth(t: float, start: float, duration: float) -> float:
+    """0 before start, 1 after start + duration, a half-cosine between."""
+    u = min(max((t - start) / duration, 0.0), 1.0)
+    return 0.5 - 0.5 * math.cos(math.pi * u)
+
+
+def _hanging(dt: float = 2e-4, reel: ReelConfig | None = None, length: float = 5.0, **kw) -> TetherPlant:
+    """A tether hanging from a fixed guide way with a 1 kg body at its end, at rest."""
+    cfg = PlantConfig(fidelity='linear', element_length=1.0, dt=dt, initial_length=length,
+                      guide_way_offset=(0.0, 0.0, 0.0), mass_per_length=MU, ea=EA,
+                      reel=reel or ReelConfig(input='spool_rate', spool_radius=0.1, max_length=60.0),
+                      uav=UavConfig(mode='dynamic', mass=MASS, attach_offset=(0.0, 0.0, 0.0)), **kw)
+    plant = TetherPlant(cfg)
+    end = -length * (1.0 + (MASS + MU * length / 2.0) * G / EA)
+    plant.step(0.0, PlantInputs(uav_position=np.array([0.0, 0.0, end])))
+    return plant
+
+
+def _mass_error(plant: TetherPlant, total: float) -> float:
+    return abs(plant.total_tether_mass() - MU * total) / (MU * total)
+
+
+def test_vertical_payout_and_reel_in_follow_the_hanging_weight() -> None:
+    """Reel tension = (m + mu L) g (+ the end body's and tether's inertia while they
+    accelerate) through 2 m/s payout, hold and 2 m/s reel-in, across splits and merges."""
+    plant = _hanging(effects=('damping',), damping=1.0)
+    rows = []
+    for k in range(1, 1701):
+        t = 0.01 * k
+        rate = 20.0 * (_smooth(t, 0.5, 2.0) - _smooth(t, 6.5, 2.0) - _smooth(t, 9.5, 2.0) + _smooth(t, 14.5, 2.0))
+        out = plant.step(t, PlantInputs(spool_rate=rate))
+        rows.append((t, out.tension_reel, out.deployed_length, out.payout_rate, out.uav_acceleration[2]))
+    t, tension, length, payout, acc = np.array(rows).T
+    static = (MASS + MU * length) * G
+    steady_out = (t > 3.0) & (t < 6.5)
+    steady_in = (t > 12.0) & (t < 14.5)
+    assert np.all(payout[steady_out] == pytest.approx(2.0))
+    assert np.all(payout[steady_in] == pytest.approx(-2.0))
+    err_out = np.max(np.abs(tension[steady_out] - static[steady_out]) / static[steady_out])
+    assert err_out < 5e-3
+    # Reel-in: the end body bounces on the tether's stretch after the ramp (a physical 5 Hz
+    # mode); with its inertia counted the tension still follows the weight.
+    dyn = static + MASS * acc
+    err_in = np.max(np.abs(tension[steady_in] - dyn[steady_in]) / static[steady_in])
+    assert err_in < 0.03
+    splits, merges = plant._fem.mesh_events()
+    assert splits >= 8
+    assert merges >= 4
+    assert _mass_error(plant, 150.0) <= 1e-9
+
+
+@pytest.mark.parametrize(('torque_scale', 'events'), [(0.5, 0), (1.5, 1)])
+def test_reel_tension_has_no_step_at_splits_and_merges(torque_scale: float, events: int) -> None:
+    """Torque-driven payout (0.5 x the holding torque) and reel-in (1.5 x): the largest
+    one-step change of the reel tension halves with the step (it is the physical change),
+    through splits or merges."""
+    steps = {}
+    for dt in (2e-4, 1e-4):
+        reel = ReelConfig(input='torque', spool_radius=0.1, inertia=0.02, max_length=60.0, min_length=1.0)
+        plant = _hanging(dt, reel, length=8.0, effects=('damping',), damping=1.0)
+        hold = -0.1 * (MASS + MU * 8.0) * G
+        for k in range(1, 201):
+            out = plant.step(0.02 * k, PlantInputs(reel_torque=torque_scale * hold))
+        assert plant._fem.mesh_events()[events] >= 2
+        steps[dt] = plant._fem.largest_reel_tension_step()
+        assert abs(out.deployed_length - 8.0) > 2.0
+    assert steps[2e-4] / steps[1e-4] > 1.6
+
+
+def _sagging(dt: float, element_length: float = 2.0, length: float = 4.0, **kw) -> TetherPlant:
+    cfg = PlantConfig(fidelity='linear', element_length=element_length, dt=dt, initial_length=length,
+                      guide_way_offset=(0.0, 0.0, 0.5), mass_per_length=MU, ea=EA,
+                      reel=ReelConfig(input='spool_rate', spool_radius=0.1, max_length=110.0, total_length=150.0),
+                      uav=UavConfig(mode='prescribed', attach_offset=(0.0, 0.0, 0.0)), **kw)
+    return TetherPlant(cfg)
+
+
+def test_hundred_metres_out_at_two_metres_per_second_and_back() -> None:
+    uav = np.array([3.0, 0.0, 2.0])
+    plant = _sagging(5e-4, effects=('drag', 'damping'), damping=2.0)
+    plant.step(0.0, PlantInputs(uav_position=uav))
+    peak = 0.0
+    for k in range(1, 2221):
+        t = 0.05 * k
+        rate = 20.0 * (_smooth(t, 0.0, 2.0) - _smooth(t, 50.0, 2.0) - _smooth(t, 55.0, 2.0) + _smooth(t, 105.0, 2.0))
+        out = plant.step(t, PlantInputs(uav_position=uav, spool_rate=rate))
+        peak = max(peak, out.deployed_length)
+        assert np.all(np.isfinite(out.nodes))
+    assert peak > 103.9
+    assert out.deployed_length == pytest.approx(4.0, abs=0.1)
+    assert _mass_error(plant, 150.0) <= 1e-9
+    fem = plant._fem
+    ratio = np.max(fem.rest[:fem.n - 1]) / np.min(fem.rest[:fem.n - 1])
+    assert ratio <= 6.0
+    bal = fem.balance()
+    assert abs(bal['residual']) < 0.02 * bal['throughput']
+
+
+def _sinusoidal(dt: float, span: float, amplitude: float = 20.0, element_length: float = 1.0) -> TetherPlant:
+    """Spool rate amplitude * sin(pi t) rad/s (0.5 Hz; 0.1 m spool radius), 20 m of tether."""
+    plant = _sagging(dt, element_length=element_length, length=20.0, effects=('drag', 'damping'), damping=1.0)
+    uav = np.array([12.0, 0.0, 8.0])
+    plant.step(0.0, PlantInputs(uav_position=uav))
+    n = int(round(span / 0.01))
+    for k in range(1, n + 1):
+        t = 0.01 * k
+        plant.step(t, PlantInputs(uav_position=uav, spool_rate=amplitude * math.sin(math.pi * t) * _smooth(t, 0.0, 2.0)))
+    return plant
+
+
+def test_sinusoidal_payout_conserves_mass_and_closes_the_energy_balance() -> None:
+    plant = _sinusoidal(5e-4, 60.0)
+    assert _mass_error(plant, 150.0) <= 1e-9
+    splits, merges = plant._fem.mesh_events()
+    assert splits >= 20 and merges >= 20
+    bal = plant._fem.balance()
+    assert abs(bal['residual']) < 0.02 * bal['throughput']
+    # Halving the step: the balance's residual shrinks (it is time-stepping error).
+    coarse, fine = _sinusoidal(5e-4, 20.0)._fem, _sinusoidal(2.5e-4, 20.0)._fem
+    assert abs(fine.balance()['residual']) < 0.6 * abs(coarse.balance()['residual'])
+
+
+def test_sinusoidal_payout_tension_has_no_step_at_splits_and_merges() -> None:
+    """1 m/s amplitude on 0.5 m elements (the tether stays taut; at 2 m/s it goes slack near
+    the reel and snaps, whose peaks depend on the step for reasons of their own): the largest
+    one-step change of the reel tension halves with the step through splits and merges."""
+    coarse, fine = (_sinusoidal(dt, 20.0, 10.0, 0.5)._fem for dt in (2.5e-4, 1.25e-4))
+    assert min(coarse.mesh_events()) >= 5
+    assert np.min(coarse.tensions()) > 0.0
+    assert coarse.largest_reel_tension_step() / fine.largest_reel_tension_step() > 1.6
+
+
+def test_payout_on_a_heaving_and_rolling_boat() -> None:
+    """Sea state 4 at the short 5 s period: 2.2 m heave range, +-21.8 deg roll, 1 m/s payout."""
+    motion = boat_motion(exit_point=(0.0, 0.0, 0.0))
+    plant = _sagging(5e-4, element_length=1.0, length=20.0, effects=('drag', 'damping'), damping=1.0)
+    uav = np.array([15.0, 0.0, 20.0])
+    amp, w = math.radians(21.8), 2 * math.pi / 5.0
+    for k in range(0, 601):
+        t = 0.05 * k
+        pos, vel = motion.position(np.array([t]))[0], motion.velocity(np.array([t]))[0]
+        roll, roll_rate = amp * math.sin(w * t), amp * w * math.cos(w * t)
+        out = plant.step(t, PlantInputs(platform_position=pos, platform_velocity=vel,
+                                        platform_quaternion=Rotation.from_euler('x', roll).as_quat(),
+                                        platform_angular_velocity=np.array([roll_rate, 0.0, 0.0]),
+                                        uav_position=uav, spool_rate=10.0 * _smooth(t, 0.0, 2.0)))
+        assert np.all(np.isfinite(out.nodes))
+        np.testing.assert_allclose(out.reel_end, pos + Rotation.from_euler('x', roll).apply([0.0, 0.0, 0.5]),
+                                   atol=1e-12)
+    assert out.deployed_length > 48.0
+    assert _mass_error(plant, 150.0) <= 1e-9
+    bal = plant._fem.balance()
+    assert abs(bal['residual']) < 0.01 * bal['throughput']
+
+
+def test_slow_payout_settles_onto_the_catenary() -> None:
+    """Both ends held, 2 m paid out slowly, then held: the time-averaged UAV tension and
+    lowest point of N >= 20 elements match the elastic catenary of the final length."""
+    uav = np.array([20.0, 0.0, 10.0])
+    plant = _sagging(2e-4, element_length=1.0, length=26.0, effects=('drag', 'damping'), damping=1.0)
+    plant.step(0.0, PlantInputs(uav_position=uav))
+    tension, low = [], []
+    for k in range(1, 1601):
+        t = 0.01 * k
+        rate = 2.0 * (_smooth(t, 0.0, 3.0) - _smooth(t, 7.0, 3.0))
+        out = plant.step(t, PlantInputs(uav_position=uav, spool_rate=rate))
+        if t > 12.0:
+            tension.append(out.tension_uav)
+            low.append(out.lowest_point[2])
+    assert out.element_count >= 20
+    ref = quasi_static.solve(out.reel_end, uav, out.deployed_length, MU, EA, G)
+    sag = out.reel_end[2] - ref.lowest_point(out.reel_end)[2]
+    assert np.mean(tension) == pytest.approx(ref.tension_b, rel=0.01)
+    assert abs(np.mean(low) - ref.lowest_point(out.reel_end)[2]) < 0.01 * sag
+
+
+def test_dynamic_uav_hovers_under_weight_plus_tether_pull() -> None:
+    cfg = PlantConfig(fidelity='linear', elements=20, dt=5e-4, initial_length=30.0, guide_way_offset=(0, 0, 0),
+                      mass_per_length=MU, ea=EA, effects=('damping',), damping=1.0,
+                      uav=UavConfig(mode='dynamic', mass=2.0, attach_offset=(0.0, 0.0, 0.0)))
+    uav = np.array([15.0, 0.0, 20.0])
+    settle = TetherPlant(PlantConfig(**{**cfg.__dict__, 'uav': UavConfig(mode='prescribed',
+                                                                          attach_offset=(0.0, 0.0, 0.0))}))
+    for k in range(0, 301):
+        probe = settle.step(0.01 * k, PlantInputs(uav_position=uav))
+    ref = quasi_static.solve(np.zeros(3), uav, 30.0, MU, EA, G)
+    assert np.linalg.norm(probe.force_on_uav) == pytest.approx(ref.tension_b, rel=0.01)
+    need = 2.0 * G * np.array([0.0, 0.0, 1.0]) - probe.force_on_uav
+    rot, _ = Rotation.align_vectors([need / np.linalg.norm(need)], [[0.0, 0.0, 1.0]])
+    plant = TetherPlant(cfg)
+    inputs = PlantInputs(uav_position=uav, uav_quaternion=rot.as_quat(), uav_thrust=float(np.linalg.norm(need)))
+    for k in range(0, 301):
+        out = plant.step(0.01 * k, inputs)
+    assert np.linalg.norm(out.uav_position - uav) < 0.01
+
+
+def test_unstable_step_and_missing_quadratic_are_refused() -> None:
+    with pytest.raises(PlantConfigError, match='stable step'):
+        _sagging(0.05)
+    with pytest.raises(PlantConfigError, match='quadratic'):
+        TetherPlant(PlantConfig(fidelity='quadratic'))
