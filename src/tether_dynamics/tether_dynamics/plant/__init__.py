@@ -45,8 +45,13 @@ so a prescribed spool rate stays continuous (no infinite acceleration at the ree
 
 Fidelity: 'quasi_static' solves the elastic catenary of the deployed length every internal
 step (:mod:`.quasi_static`); the winch and a dynamic UAV are integrated against its end
-tensions. 'linear' and 'quadratic' are finite-element tethers with a moving reel
-(:mod:`.fem_reel`).
+tensions. 'linear' is the finite-element tether with a moving reel (:mod:`.fem_reel`:
+the method, the alternatives measured, the stable step). 'quadratic' is refused with a
+named error: the moving reel has no quadratic elements yet (the fixed-length quadratic
+FEM of :mod:`tether_dynamics.fem` does not change length).
+
+Sea surface: ``PlantInputs.sea_surface_height`` is the local wave elevation the scene
+provides (0 without waves); ``clearance_sea`` and ``fouling`` are measured from it.
 """
 
 from tether_dynamics.plant.config import PlantConfig, PlantConfigError, ReelConfig, UavConfig

@@ -108,8 +108,9 @@ class PlantConfig:
 
     Attributes
     ----------
-    fidelity : 'quasi_static' (elastic catenary solved each step), 'linear' or 'quadratic'
-        (finite elements with a moving reel).
+    fidelity : 'quasi_static' (elastic catenary solved each step) or 'linear' (finite
+        elements with a moving reel); 'quadratic' is refused by the plant (not implemented
+        for a moving reel).
     elements : number of finite elements at the initial deployed length (and the number of
         output points - 1 for the quasi-static fidelity).
     element_length : nominal element rest length h, m; default initial_length / elements.
