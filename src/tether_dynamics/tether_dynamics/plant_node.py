@@ -145,7 +145,8 @@ class PlantNode(Node):
         self.nodes_every = _divisor(p, 'nodes_rate')
         self.markers_every = _divisor(p, 'markers_rate')
         self.offset = np.asarray(p['guide_way_offset'], dtype=float)
-        self.plant: TetherPlant | None = None
+        self.plant = self._build(p['initial_length'] or ReelConfig().min_length)
+        self.started = False
         self.steps = 0
         self.scripted = ScriptedReel(p['reference_gain']) if p['reel_input'] == 'reference' else None
         self.truth: tuple[float, np.ndarray, np.ndarray] | None = None
@@ -215,17 +216,20 @@ class PlantNode(Node):
         else:
             inputs.reel_torque = self.command
 
-    def _start(self, inputs: PlantInputs) -> None:
-        """Build the plant at the first tick: the deployed length is the reference length unless given."""
-        length = self.params['initial_length']
-        if length == 0.0:
-            guide, _ = self._guide_way(inputs)
-            d = inputs.uav_position - guide
-            length = reference_length(float(np.hypot(d[0], d[1])), float(d[2])).length
+    def _build(self, initial_length: float) -> TetherPlant:
+        """The plant for the scene's parameters; a configuration it refuses ends the node (exit 2)."""
         try:
-            self.plant = TetherPlant(plant_config(self.params, length))
+            return TetherPlant(plant_config(self.params, initial_length))
         except PlantConfigError as error:
             raise ConfigurationError(str(error)) from None
+
+    def _start(self, inputs: PlantInputs) -> None:
+        """At the first step, without an initial_length, deploy the reference length of the first relative position."""
+        if self.params['initial_length'] == 0.0:
+            guide, _ = self._guide_way(inputs)
+            d = inputs.uav_position - guide
+            self.plant = self._build(reference_length(float(np.hypot(d[0], d[1])), float(d[2])).length)
+        self.started = True
 
     def _guide_way(self, inputs: PlantInputs) -> tuple[np.ndarray, np.ndarray]:
         rotation = quaternion_rotation(inputs.platform_quaternion, 'the reel pose orientation')
@@ -240,7 +244,7 @@ class PlantNode(Node):
         if inputs is None:
             return
         self._reel(tick_ns, inputs)
-        if self.plant is None:
+        if not self.started:
             self._start(inputs)
         try:
             out = self.plant.step(t, inputs)
