@@ -3,6 +3,8 @@
 from __future__ import annotations
 
 import math
+import subprocess
+import sys
 
 import numpy as np
 import pytest
@@ -91,3 +93,15 @@ def test_markers_are_all_in_world_with_the_step_stamp_and_survive_serialization(
     tether = decoded.markers[0]
     assert len(tether.points) == 21 and tether.points[-1].z == pytest.approx(UAV[2])
     assert decoded.markers[-1].color.r > 0.8 and decoded.markers[-1].color.g < 0.2  # fouling: red
+
+
+@pytest.mark.parametrize('args, message', [
+    (['-p', 'initial_length:=500.0'], 'initial_length 500.0 m must lie within the reel stops'),
+    (['-p', 'nodes_rate:=30.0'], 'nodes_rate = 30 Hz must divide state_rate = 100 Hz'),
+    (['-p', 'fidelity:=cubic'], 'parameter fidelity: expected a string from {quasi_static, linear, quadratic}'),
+])
+def test_node_refuses_a_bad_configuration_in_one_line(args, message):
+    result = subprocess.run([sys.executable, '-m', 'tether_dynamics.plant_node', '--ros-args', *args],
+                            capture_output=True, text=True, timeout=120)
+    assert result.returncode == 2
+    assert message in result.stderr and 'Traceback' not in result.stderr
