@@ -16,7 +16,8 @@ inputs by stamp, steps the plant and publishes
 Inputs: ``/platform/reel_pose`` (geometry_msgs/PoseStamped, the reel mount in ``world``;
 the guide way is ``guide_way_offset`` from it in the boat frame); ``/uav/pose``
 (geometry_msgs/PoseStamped) when ``uav_source`` is ``topic``; ``/reel/command``
-(tether_msgs/ReelCommand, spool-rate or torque) when ``reel_input`` is ``command``. With
+(tether_msgs/ReelCommand: spool rate, torque or payout rate, ``reel_drive``) when
+``reel_input`` is ``command``. With
 ``reel_input: reference`` the spool follows the catenary reference length of the true
 relative position of the previous step (:class:`tether_dynamics.scripted_reel.ScriptedReel`),
 until the smart reel closes that loop.
@@ -62,6 +63,11 @@ from tether_dynamics.plant_params import PARAMETERS
 from tether_dynamics.scripted_reel import ScriptedReel
 from tether_dynamics.statics.catenary import GRAVITY
 from tether_dynamics.statics.reference_length import reference_length
+
+
+REEL_CONTROLS = {'spool_rate': ReelCommand.CONTROL_SPOOL_RATE, 'torque': ReelCommand.CONTROL_TORQUE,
+                 'payout_rate': ReelCommand.CONTROL_PAYOUT_RATE}
+REEL_FIELDS = {'spool_rate': 'spool_rate', 'torque': 'spool_torque', 'payout_rate': 'payout_rate'}
 
 
 def _divisor(params: dict, name: str) -> int:
@@ -119,7 +125,7 @@ def _set(target, values) -> None:
 def plant_config(params: dict, initial_length: float) -> PlantConfig:
     """The plant's configuration from the node's parameters (see :mod:`tether_dynamics.plant_params`)."""
     p = params
-    drive = p['reel_drive'] if p['reel_input'] == 'command' else 'spool_rate'
+    drive = 'torque' if p['reel_input'] == 'command' and p['reel_drive'] == 'torque' else 'spool_rate'
     attach = (0.0, 0.0, 0.0) if p['uav_source'] == 'fixed' else tuple(p['uav_attach_offset'])
     return PlantConfig(
         fidelity=p['fidelity'], elements=p['elements'], dt=p['integration_step'], effects=tuple(p['effects']),
@@ -204,17 +210,16 @@ class PlantNode(Node):
                 inputs.spool_rate = payout / self.params['spool_radius']
             return
         command = self.reel_command.at(tick_ns)
+        drive = self.params['reel_drive']
         if command is not None:
-            drive = self.params['reel_drive']
-            expected = ReelCommand.CONTROL_SPOOL_RATE if drive == 'spool_rate' else ReelCommand.CONTROL_TORQUE
-            if command.control != expected:
+            if command.control != REEL_CONTROLS[drive]:
                 raise ConfigurationError(f'/reel/command with control {command.control} but the plant\'s '
-                                         f'reel_drive is {drive} (control {expected})')
-            self.command = command.spool_rate if drive == 'spool_rate' else command.spool_torque
-        if self.params['reel_drive'] == 'spool_rate':
-            inputs.spool_rate = self.command
-        else:
+                                         f'reel_drive is {drive} (control {REEL_CONTROLS[drive]})')
+            self.command = getattr(command, REEL_FIELDS[drive])
+        if drive == 'torque':
             inputs.reel_torque = self.command
+        else:
+            inputs.spool_rate = self.command / (self.params['spool_radius'] if drive == 'payout_rate' else 1.0)
 
     def _build(self, initial_length: float) -> TetherPlant:
         """The plant for the scene's parameters; a configuration it refuses ends the node (exit 2)."""

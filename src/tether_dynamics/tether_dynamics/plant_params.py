@@ -10,9 +10,10 @@ from tether_common.parameters import ParamSpec
 
 FIDELITIES = ('quasi_static', 'linear', 'quadratic')
 EFFECTS = ('drag', 'wind', 'damping')
-REEL_DRIVES = ('spool_rate', 'torque')
+REEL_DRIVES = ('spool_rate', 'torque', 'payout_rate')
 """The plant's choices (:mod:`tether_dynamics.plant.config`), repeated so that validating a
-scene does not import the compiled plant; a test keeps them equal."""
+scene does not import the compiled plant; a test keeps them equal. ``payout_rate`` drives
+the plant's spool-rate input."""
 REEL_INPUTS = ('reference', 'command')
 UAV_SOURCES = ('fixed', 'topic')
 
@@ -49,8 +50,10 @@ PARAMETERS: tuple[ParamSpec, ...] = (
     ParamSpec('reel_input', 'reference', 'what drives the spool: reference (a scripted reel: the deployed '
               'length follows the catenary reference length of the true relative position, Eq. 4.4/4.5) or '
               'command (/reel/command, from the smart reel)', choices=REEL_INPUTS, read_only=True),
-    ParamSpec('reel_drive', 'spool_rate', 'what /reel/command sets (reel_input command): spool_rate or '
-              'torque; a command of the other kind is refused', choices=REEL_DRIVES, read_only=True),
+    ParamSpec('reel_drive', 'spool_rate', 'what /reel/command sets (reel_input command): spool_rate, torque '
+              '(the plant integrates the winch, Eq. 7.26) or payout_rate (the sender integrates its own drive; '
+              'the spool turns at payout_rate / spool_radius); a command of another kind is refused',
+              choices=REEL_DRIVES, read_only=True),
     ParamSpec('spool_radius', 0.05, 'spool radius d: payout rate = d x spool rate', 'm', low=1e-3, high=2.0,
               read_only=True),
     ParamSpec('spool_inertia', 0.01, 'inertia of the empty drum and motor (Eq. 7.26)', 'kg m^2', low=1e-6,
