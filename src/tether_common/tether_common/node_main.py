@@ -20,6 +20,7 @@ from pathlib import Path
 
 import rclpy
 from rclpy.exceptions import ParameterException
+from rclpy.executors import Executor
 from rclpy.executors import ExternalShutdownException
 from rclpy.impl.implementation_singleton import rclpy_implementation
 from rclpy.node import Node
@@ -29,8 +30,12 @@ class ConfigurationError(Exception):
     """A node cannot start with the parameters or files it was given."""
 
 
-def run_node(factory: Callable[[], Node], args: list[str] | None = None) -> int:
-    """Build the node with ``factory`` and spin it until shutdown; return the exit status."""
+def run_node(factory: Callable[[], Node], args: list[str] | None = None,
+             executor: Callable[[], Executor] | None = None) -> int:
+    """Build the node with ``factory`` and spin it until shutdown; return the exit status.
+
+    ``executor`` makes the executor that spins it (default: rclpy's single-threaded one).
+    """
     program = Path(sys.argv[0]).name
     refused = _init(args)
     if refused:
@@ -40,7 +45,7 @@ def run_node(factory: Callable[[], Node], args: list[str] | None = None) -> int:
     status = 0
     try:
         node = factory()
-        rclpy.spin(node)
+        rclpy.spin(node, executor() if executor is not None else None)
     except (KeyboardInterrupt, ExternalShutdownException):
         pass
     except (ConfigurationError, ParameterException) as error:

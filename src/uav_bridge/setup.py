@@ -1,0 +1,25 @@
+from setuptools import find_packages, setup
+
+package_name = 'uav_bridge'
+
+setup(
+    name=package_name,
+    version='0.1.0',
+    packages=find_packages(exclude=['test']),
+    data_files=[
+        ('share/ament_index/resource_index/packages', ['resource/' + package_name]),
+        ('share/' + package_name, ['package.xml']),
+    ],
+    install_requires=['setuptools'],
+    zip_safe=True,
+    maintainer='tethersim',
+    maintainer_email='tethersim@example.org',
+    description='The UAV end of the graph: MAVLink bridge to ArduPilot (ENU/FLU telemetry, state, commands).',
+    license='Apache-2.0',
+    extras_require={'test': ['pytest']},
+    entry_points={
+        'console_scripts': [
+            'mavlink_bridge = uav_bridge.mavlink_bridge:main',
+        ],
+    },
+)

@@ -1,0 +1,212 @@
+"""ROS 2 node ``mavlink_bridge``: an ArduPilot autopilot over MAVLink, in ROS conventions.
+
+A thin wrapper around :class:`uav_bridge.session.MavlinkSession`, whose thread owns the
+link, so the executor never waits on I/O. Publishes, stamped with the graph's clock at
+arrival:
+
+* ``/uav/pose`` (geometry_msgs/PoseStamped, frame ``world``, ENU; orientation of the FLU
+  body ``uav``) and ``/uav/twist`` (geometry_msgs/TwistStamped, frame ``world``: ENU
+  velocity and angular velocity expressed in world), from LOCAL_POSITION_NED + ATTITUDE;
+* ``/uav/imu`` (sensor_msgs/Imu, frame ``uav``, FLU), from HIGHRES_IMU;
+* ``/uav/global`` (sensor_msgs/NavSatFix, frame ``uav``; altitude above mean sea level), from
+  GLOBAL_POSITION_INT;
+* ``/uav/state`` (tether_msgs/UavState, reliable, transient local), on every change and at
+  least every ``status_period``: link, staleness, armed, mode, position estimate, what the
+  link waits for, latest STATUSTEXT lines, offset of the graph clock to the autopilot's
+  time since boot.
+
+Streams use the sensor-data QoS. Commands: services ``/uav/set_mode`` (tether_msgs/SetMode),
+``/uav/arm`` (std_srvs/SetBool: true arms, retrying with back-off while the autopilot
+refuses, false disarms), ``/uav/takeoff`` (tether_msgs/Takeoff), ``/uav/land``
+(std_srvs/Trigger); position setpoints on ``/uav/setpoint`` (geometry_msgs/PoseStamped in
+``world``; a zero quaternion keeps the heading) go out as SET_POSITION_TARGET_LOCAL_NED.
+Services answer once the autopilot did (or refused, with its reasons), in their own threads.
+"""
+
+from __future__ import annotations
+
+import sys
+
+from geometry_msgs.msg import PoseStamped
+from geometry_msgs.msg import TwistStamped
+from rclpy.callback_groups import ReentrantCallbackGroup
+from rclpy.executors import MultiThreadedExecutor
+from rclpy.node import Node
+from rclpy.time import Time
+from sensor_msgs.msg import Imu
+from sensor_msgs.msg import NavSatFix
+from sensor_msgs.msg import NavSatStatus
+from std_srvs.srv import SetBool
+from std_srvs.srv import Trigger
+from tether_msgs.msg import UavState
+from tether_msgs.srv import SetMode
+from tether_msgs.srv import Takeoff
+
+from tether_common.node_main import ConfigurationError
+from tether_common.node_main import run_node
+from tether_common.qos import COMMAND
+from tether_common.qos import LATCHED
+from tether_common.qos import SENSOR
+from tether_common.ros_parameters import declare_parameters
+from uav_bridge import telemetry
+from uav_bridge.frames import quaternion_enu_to_yaw_ned
+from uav_bridge.mavlink_bridge_params import PARAMETERS
+from uav_bridge.session import LinkStatus
+from uav_bridge.session import MavlinkSession
+from uav_bridge.session import SessionConfig
+
+WORLD_FRAMES = ('world', '')
+
+
+class MavlinkBridge(Node):
+    """Publishes an autopilot's telemetry and state; forwards commands and setpoints."""
+
+    def __init__(self) -> None:
+        super().__init__('mavlink_bridge')
+        try:
+            params = declare_parameters(self, PARAMETERS)
+        except ValueError as error:
+            raise ConfigurationError(str(error)) from None
+        if len(params['origin']) != 3:
+            raise ConfigurationError(f'parameter origin: expected 3 numbers (m, ENU), got {params["origin"]}')
+        config = SessionConfig(
+            url=params['url'], origin=tuple(params['origin']), system_id=params['system_id'],
+            component_id=params['component_id'], heartbeat_period=params['heartbeat_period'],
+            link_timeout=params['link_timeout'], reconnect_max=params['reconnect_max'],
+            stream_rates={'ATTITUDE': params['pose_rate'], 'LOCAL_POSITION_NED': params['pose_rate'],
+                          'HIGHRES_IMU': params['imu_rate'], 'GLOBAL_POSITION_INT': params['global_rate'],
+                          'EKF_STATUS_REPORT': params['ekf_status_rate']},
+            stream_timeout=params['stream_timeout'], status_period=params['status_period'],
+            command_timeout=params['command_timeout'], arm_timeout=params['arm_timeout'],
+            statustext_lines=params['statustext_lines'])
+        self.pose_pub = self.create_publisher(PoseStamped, '/uav/pose', SENSOR)
+        self.twist_pub = self.create_publisher(TwistStamped, '/uav/twist', SENSOR)
+        self.imu_pub = self.create_publisher(Imu, '/uav/imu', SENSOR)
+        self.global_pub = self.create_publisher(NavSatFix, '/uav/global', SENSOR)
+        self.state_pub = self.create_publisher(UavState, '/uav/state', LATCHED)
+        try:
+            self.session = MavlinkSession(config, self.on_sample, self.on_status, self.on_log,
+                                          stamp_clock=self._graph_seconds)
+        except ValueError as error:
+            raise ConfigurationError(str(error)) from None
+        self.command_timeout = max(config.command_timeout, config.arm_timeout) + 5.0
+        group = ReentrantCallbackGroup()
+        self.create_service(SetMode, '/uav/set_mode', self.set_mode_callback, callback_group=group)
+        self.create_service(SetBool, '/uav/arm', self.arm_callback, callback_group=group)
+        self.create_service(Takeoff, '/uav/takeoff', self.takeoff_callback, callback_group=group)
+        self.create_service(Trigger, '/uav/land', self.land_callback, callback_group=group)
+        self.create_subscription(PoseStamped, '/uav/setpoint', self.setpoint_callback, COMMAND)
+        self._warned_frames: set[str] = set()
+        self.session.start()
+        self.get_logger().info(f'MAVLink bridge on {config.url}; autopilot origin at {list(config.origin)} m in world')
+
+    def destroy_node(self) -> None:
+        """Stop the link thread before the node goes."""
+        self.session.stop()
+        super().destroy_node()
+
+    def _graph_seconds(self) -> float:
+        return self.get_clock().now().nanoseconds * 1e-9
+
+    # link thread → ROS
+
+    def on_log(self, level: str, text: str) -> None:
+        """Forward the session's log lines to the node's logger."""
+        logger = self.get_logger()
+        {'info': logger.info, 'warn': logger.warning, 'error': logger.error}[level](text)
+
+    def on_sample(self, sample, stamp: float) -> None:
+        """Publish a converted telemetry sample stamped ``stamp`` (graph clock, s)."""
+        header_stamp = Time(nanoseconds=round(stamp * 1e9)).to_msg()
+        if isinstance(sample, telemetry.Kinematics):
+            pose = PoseStamped()
+            pose.header.stamp, pose.header.frame_id = header_stamp, 'world'
+            _fill_vector(pose.pose.position, sample.position)
+            _fill_quaternion(pose.pose.orientation, sample.orientation)
+            self.pose_pub.publish(pose)
+            twist = TwistStamped()
+            twist.header.stamp, twist.header.frame_id = header_stamp, 'world'
+            _fill_vector(twist.twist.linear, sample.velocity)
+            _fill_vector(twist.twist.angular, sample.angular_velocity)
+            self.twist_pub.publish(twist)
+        elif isinstance(sample, telemetry.ImuSample):
+            imu = Imu()
+            imu.header.stamp, imu.header.frame_id = header_stamp, 'uav'
+            _fill_quaternion(imu.orientation, sample.orientation)
+            _fill_vector(imu.angular_velocity, sample.angular_velocity)
+            _fill_vector(imu.linear_acceleration, sample.linear_acceleration)
+            self.imu_pub.publish(imu)
+        elif isinstance(sample, telemetry.GlobalFix):
+            fix = NavSatFix()
+            fix.header.stamp, fix.header.frame_id = header_stamp, 'uav'
+            fix.status.status = NavSatStatus.STATUS_FIX if sample.valid else NavSatStatus.STATUS_NO_FIX
+            fix.status.service = NavSatStatus.SERVICE_GPS
+            fix.latitude, fix.longitude, fix.altitude = sample.latitude, sample.longitude, sample.altitude
+            fix.position_covariance_type = NavSatFix.COVARIANCE_TYPE_UNKNOWN
+            self.global_pub.publish(fix)
+
+    def on_status(self, status: LinkStatus) -> None:
+        """Publish /uav/state."""
+        msg = UavState()
+        msg.header.stamp = Time(nanoseconds=round(status.stamp * 1e9)).to_msg()
+        msg.connected, msg.armed, msg.ready, msg.mode = status.connected, status.armed, status.ready, status.mode
+        msg.stale, msg.position_ready, msg.ekf_flags = status.stale, status.position_ready, status.ekf_flags
+        msg.waiting_for, msg.heartbeat_age = status.waiting_for, float(status.heartbeat_age)
+        msg.autopilot_time_offset = float(status.time_offset)
+        msg.reconnects, msg.reboots, msg.bad_packets = status.reconnects, status.reboots, status.bad_packets
+        msg.status_text = list(status.status_text)
+        self.state_pub.publish(msg)
+
+    # ROS → link thread
+
+    def setpoint_callback(self, msg: PoseStamped) -> None:
+        """Send a world-frame position (and heading, unless the quaternion is zero) target."""
+        frame = msg.header.frame_id
+        if frame not in WORLD_FRAMES:
+            if frame not in self._warned_frames:
+                self._warned_frames.add(frame)
+                self.get_logger().warning(f'/uav/setpoint in frame {frame!r} ignored: setpoints are in world (ENU)')
+            return
+        q = msg.pose.orientation
+        quaternion = [q.x, q.y, q.z, q.w]
+        yaw = quaternion_enu_to_yaw_ned(quaternion) if any(quaternion) else None
+        p = msg.pose.position
+        self.session.send_setpoint([p.x, p.y, p.z], yaw)
+
+    def set_mode_callback(self, request, response):
+        """Ask for a flight mode; answer when the HEARTBEAT shows it or the autopilot refused."""
+        return self._answer(self.session.set_mode(request.mode), response)
+
+    def arm_callback(self, request, response):
+        """Arm (retrying while refused) or disarm."""
+        return self._answer(self.session.arm(request.data), response)
+
+    def takeoff_callback(self, request, response):
+        """Take off to the requested altitude above the take-off point."""
+        return self._answer(self.session.takeoff(request.altitude), response)
+
+    def land_callback(self, request, response):
+        """Land where the UAV is."""
+        return self._answer(self.session.land(), response)
+
+    def _answer(self, future, response):
+        result = future.result(timeout=self.command_timeout)
+        response.success, response.message = result.success, result.message
+        return response
+
+
+def _fill_vector(target, values) -> None:
+    target.x, target.y, target.z = (float(v) for v in values)
+
+
+def _fill_quaternion(target, values) -> None:
+    target.x, target.y, target.z, target.w = (float(v) for v in values)
+
+
+def main(args=None):
+    """Run the bridge (a multi-threaded executor, so waiting services do not hold up the rest)."""
+    sys.exit(run_node(MavlinkBridge, args, executor=MultiThreadedExecutor))
+
+
+if __name__ == '__main__':
+    main()
