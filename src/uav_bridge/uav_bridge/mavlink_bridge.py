@@ -111,12 +111,34 @@ class MavlinkBridge(Node):
     # link thread → ROS
 
     def on_log(self, level: str, text: str) -> None:
-        """Forward the session's log lines to the node's logger."""
+        """Forward the session's log lines to the node's logger (nothing once shutting down)."""
+        if not self.context.ok():
+            return
         logger = self.get_logger()
-        {'info': logger.info, 'warn': logger.warning, 'error': logger.error}[level](text)
+        if level == 'error':
+            logger.error(text)
+        elif level == 'warn':
+            logger.warning(text)
+        else:
+            logger.info(text)
 
     def on_sample(self, sample, stamp: float) -> None:
-        """Publish a converted telemetry sample stamped ``stamp`` (graph clock, s)."""
+        """Publish a sample; a shutdown racing the link thread drops it."""
+        try:
+            self._publish_sample(sample, stamp)
+        except Exception:
+            if self.context.ok():
+                raise
+
+    def on_status(self, status: LinkStatus) -> None:
+        """Publish /uav/state; a shutdown racing the link thread drops it."""
+        try:
+            self._publish_status(status)
+        except Exception:
+            if self.context.ok():
+                raise
+
+    def _publish_sample(self, sample, stamp: float) -> None:
         header_stamp = Time(nanoseconds=round(stamp * 1e9)).to_msg()
         if isinstance(sample, telemetry.Kinematics):
             pose = PoseStamped()
@@ -145,8 +167,7 @@ class MavlinkBridge(Node):
             fix.position_covariance_type = NavSatFix.COVARIANCE_TYPE_UNKNOWN
             self.global_pub.publish(fix)
 
-    def on_status(self, status: LinkStatus) -> None:
-        """Publish /uav/state."""
+    def _publish_status(self, status: LinkStatus) -> None:
         msg = UavState()
         msg.header.stamp = Time(nanoseconds=round(status.stamp * 1e9)).to_msg()
         msg.connected, msg.armed, msg.ready, msg.mode = status.connected, status.armed, status.ready, status.mode

@@ -248,8 +248,11 @@ class MavlinkSession:
                 self._step()
             except Exception as error:  # noqa: BLE001 - the link thread must survive anything
                 self.callback_errors += 1
-                self.log('error', f'link step failed: {type(error).__name__}: {error}')
                 self._stop.wait(0.05)
+                try:
+                    self.log('error', f'link step failed: {type(error).__name__}: {error}')
+                except Exception:  # noqa: BLE001 - nor a logger that fails
+                    continue
 
     def _step(self) -> None:
         now = self.clock()
