@@ -98,7 +98,9 @@ def test_bridge_node_flies_the_double(ros_domain):
         assert probe.got['twist'][-1].header.frame_id == 'world'
         assert probe.got['imu'][-1].header.frame_id == 'uav'
         assert probe.got['imu'][-1].linear_acceleration.z == pytest.approx(9.80665, abs=1e-4)   # FLU, level
-        assert probe.got['global'][-1].status.status == 0 and probe.got['global'][-1].latitude < -35.0
+        assert probe.got['global'][0].status.status == -1                # lat = lon = 0 before the EKF uses GPS
+        wait_until(lambda: probe.got['global'][-1].status.status == 0, what='a global fix')
+        assert probe.got['global'][-1].latitude == pytest.approx(-35.363262, abs=1e-6)
         z0 = probe.got['pose'][-1].pose.position.z
         assert z0 == pytest.approx(ORIGIN[2], abs=1e-6)
         wait_until(lambda: peer.sim_time() > peer.rc_mode_switch, what='the RC mode switch')

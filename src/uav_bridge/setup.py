@@ -20,6 +20,7 @@ setup(
     entry_points={
         'console_scripts': [
             'mavlink_bridge = uav_bridge.mavlink_bridge:main',
+            'mission = uav_bridge.mission_node:main',
         ],
     },
 )

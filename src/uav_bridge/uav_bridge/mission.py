@@ -1,0 +1,156 @@
+"""Mission logic of the tethered UAV: take off, hold station over the boat, land (no rclpy).
+
+The thesis's flights (Sec. 5.3, 5.4) hold the UAV at a relative position to the smart reel's
+guide way: 5 m up and 2.5 m radial indoors, 30 m up and 15 m radial outdoors, near the
+recommended ratio Δr/Δz ≈ 0.46 of the heave-robust reference model (Sec. 4.2). The station is
+fixed in ``world`` (ENU, origin at the guide way's neutral position), so the UAV holds its
+position while the boat heaves under it and the reel absorbs the motion.
+
+:class:`MissionLogic` is stepped with the time and what the graph knows (:class:`Inputs`)
+and returns what to do (:class:`Outputs`): at most one autopilot request at a time (mode,
+arm, takeoff, land, with the answer of the previous one fed back) and the position setpoint.
+Phases: ``wait`` (for the link and the autopilot's position estimate) → ``guided`` →
+``arm`` → ``takeoff`` → ``climb`` → ``hold`` → ``land`` → ``landed``. A reel trip (tension
+or fouling) or the end time sends it to ``land`` from any phase, and the reason is kept.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+PHASES = ('wait', 'guided', 'arm', 'takeoff', 'climb', 'hold', 'land', 'landed')
+
+
+@dataclass(frozen=True)
+class MissionConfig:
+    """Station and timing of a mission."""
+
+    altitude: float = 30.0          # m, Δz of the station above the guide way's neutral position
+    radial: float = 13.8            # m, Δr: horizontal distance of the station (0.46 x 30 m by default)
+    bearing: float = 0.0            # rad, direction of the radial offset in world, from x (east) toward y
+    land_time: float = math.inf     # s, time at which the mission lands
+    climb_tolerance: float = 0.5    # m, take-off altitude reached within this
+    retry_period: float = 2.0       # s, wait after a refused request before asking again
+
+    def station(self) -> np.ndarray:
+        """The station in world (ENU, m)."""
+        return np.array([self.radial * math.cos(self.bearing), self.radial * math.sin(self.bearing), self.altitude])
+
+
+@dataclass(frozen=True)
+class Inputs:
+    """What the mission knows at a step."""
+
+    connected: bool = False         # autopilot link up and not stale
+    position_ready: bool = False    # the autopilot's position estimate is in use
+    armed: bool = False
+    mode: str = ''
+    position: np.ndarray | None = None    # m, UAV in world (ENU), None before the first pose
+    reel_fault: str = ''            # reason of a reel trip (tension, fouling), '' when none
+    busy: bool = False              # a request is still waiting for its answer
+    answer: tuple[str, bool, str] | None = None   # (request kind, success, message) of the last answer
+
+
+@dataclass(frozen=True)
+class Outputs:
+    """What the mission does at a step."""
+
+    phase: str
+    request: tuple[str, object] | None = None    # ('set_mode', 'GUIDED'), ('arm', True), ('takeoff', m), ('land', None)
+    setpoint: np.ndarray | None = None           # m, world (ENU)
+    reason: str = ''                              # why the mission lands, else the last refusal or wait
+
+
+class MissionLogic:
+    """The phase machine of one mission (see the module docstring)."""
+
+    def __init__(self, config: MissionConfig) -> None:
+        self.config = config
+        self.station = config.station()
+        self.phase = 'wait'
+        self.reason = 'autopilot link and position estimate'
+        self.aborted = False
+        self.outcome = ''
+        self.takeoff_altitude = 0.0
+        self._next_request = -math.inf
+
+    def step(self, t: float, inputs: Inputs) -> Outputs:
+        """Advance to time ``t`` (s) with ``inputs``; return the request and setpoint to send."""
+        if inputs.answer is not None and not inputs.answer[1]:
+            self.reason = f'{inputs.answer[0]} refused: {inputs.answer[2]}'
+            self._next_request = t + self.config.retry_period
+        if self.phase not in ('land', 'landed'):
+            if inputs.reel_fault:
+                self.outcome = f'aborted: reel trip: {inputs.reel_fault}'
+                self.aborted = True
+                self._enter('land')
+            elif t >= self.config.land_time:
+                self.outcome = 'end of the mission'
+                self._enter('land')
+        handler = getattr(self, f'_{self.phase}')
+        request, setpoint = handler(t, inputs)
+        if request is not None:
+            if inputs.busy or t < self._next_request:
+                request = None
+            else:
+                self._next_request = t
+        return Outputs(self.phase, request, setpoint, self.outcome or self.reason)
+
+    def _enter(self, phase: str, reason: str = '') -> None:
+        self.phase = phase
+        self.reason = reason
+        self._next_request = -math.inf
+
+    def _wait(self, t, inputs):
+        if inputs.connected and inputs.position_ready and inputs.position is not None:
+            self._enter('guided')
+            return self._guided(t, inputs)
+        return None, None
+
+    def _guided(self, t, inputs):
+        if inputs.mode == 'GUIDED':
+            self._enter('arm')
+            return self._arm(t, inputs)
+        return ('set_mode', 'GUIDED'), None
+
+    def _arm(self, t, inputs):
+        if inputs.armed:
+            self.takeoff_altitude = max(1.0, float(self.station[2] - inputs.position[2]))
+            self._enter('takeoff')
+            return self._takeoff(t, inputs)
+        if inputs.mode != 'GUIDED':
+            self._enter('guided', f'autopilot left GUIDED for {inputs.mode}')
+            return self._guided(t, inputs)
+        return ('arm', True), None
+
+    def _takeoff(self, t, inputs):
+        if inputs.answer is not None and inputs.answer[0] == 'takeoff' and inputs.answer[1]:
+            self._enter('climb')
+            return None, None
+        if not inputs.armed:
+            self._enter('arm', 'disarmed before take-off')
+            return None, None
+        return ('takeoff', self.takeoff_altitude), None
+
+    def _climb(self, t, inputs):
+        if inputs.position is not None and inputs.position[2] >= self.station[2] - self.config.climb_tolerance:
+            self._enter('hold')
+            return self._hold(t, inputs)
+        return None, None
+
+    def _hold(self, t, inputs):
+        return None, self.station.copy()
+
+    def _land(self, t, inputs):
+        if not inputs.armed:
+            self._enter('landed')
+            return None, None
+        if inputs.mode == 'LAND':
+            return None, None
+        return ('land', None), None
+
+    def _landed(self, t, inputs):
+        return None, None

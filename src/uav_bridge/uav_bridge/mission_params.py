@@ -1,0 +1,24 @@
+"""Parameters of the mission node (no rclpy import; the bringup validates scenes with them)."""
+
+from __future__ import annotations
+
+from tether_common.parameters import ParamSpec
+
+PARAMETERS: tuple[ParamSpec, ...] = (
+    ParamSpec('altitude', 30.0, 'station height above the guide way\'s neutral position (Δz; thesis outdoor 30 m, '
+              'indoor 5 m)', 'm', low=1.0, high=500.0, read_only=True),
+    ParamSpec('radial', 13.8, 'horizontal distance of the station from the guide way (Δr; default 0.46 x 30 m, the '
+              'recommended Δr/Δz; thesis outdoor 15 m, indoor 2.5 m)', 'm', low=0.0, high=500.0, read_only=True),
+    ParamSpec('bearing', 0.0, 'direction of the radial offset in world, from x (east) toward y (north)', 'deg',
+              low=-360.0, high=360.0, read_only=True),
+    ParamSpec('land_time', 0.0, 'sim time at which the mission lands; 0: only on a reel trip', 's', low=0.0,
+              high=1e9, read_only=True),
+    ParamSpec('abort_tension', 0.0, 'land when the reel\'s tension estimate exceeds this; 0: only on the reel\'s '
+              'fault mode', 'N', low=0.0, high=1e5, read_only=True),
+    ParamSpec('rate', 10.0, 'mission steps and setpoints per second of sim time', 'Hz', low=0.5, high=100.0,
+              read_only=True),
+    ParamSpec('retry_period', 2.0, 'wait after a refused request before asking again', 's', low=0.1, high=60.0,
+              read_only=True),
+    ParamSpec('climb_tolerance', 0.5, 'take-off altitude counted as reached within this', 'm', low=0.05, high=10.0,
+              read_only=True),
+)
