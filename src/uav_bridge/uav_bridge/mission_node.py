@@ -67,7 +67,7 @@ class MissionNode(Node):
         self.create_subscription(ReelState, '/reel/state', self.reel_callback, STATE)
         self.setpoint_pub = self.create_publisher(PoseStamped, '/uav/setpoint', COMMAND)
         self.state_pub = self.create_publisher(MissionState, '/mission/state', LATCHED)
-        self.clients = {'set_mode': (self.create_client(SetMode, '/uav/set_mode'), lambda v: SetMode.Request(mode=v)),
+        self.uav_services = {'set_mode': (self.create_client(SetMode, '/uav/set_mode'), lambda v: SetMode.Request(mode=v)),
                         'arm': (self.create_client(SetBool, '/uav/arm'), lambda v: SetBool.Request(data=v)),
                         'takeoff': (self.create_client(Takeoff, '/uav/takeoff'),
                                     lambda v: Takeoff.Request(altitude=float(v))),
@@ -124,7 +124,7 @@ class MissionNode(Node):
             self.state_pub.publish(msg)
 
     def _request(self, kind: str, value) -> None:
-        client, build = self.clients[kind]
+        client, build = self.uav_services[kind]
         if not client.service_is_ready():
             self.answer = (kind, False, f'service of {kind} not available')
             return

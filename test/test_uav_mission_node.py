@@ -1,0 +1,70 @@
+"""The mission node flying the ArduCopter test double through the bridge: hold station, abort on a reel trip."""
+
+from __future__ import annotations
+
+import os
+import signal
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+rclpy = pytest.importorskip('rclpy')
+
+from tether_msgs.msg import MissionState  # noqa: E402
+from tether_msgs.msg import ReelState  # noqa: E402
+
+from mavlink_peer_double import ArduCopterPeerDouble  # noqa: E402
+from tether_common.qos import LATCHED  # noqa: E402
+from tether_common.qos import STATE  # noqa: E402
+from test_uav_bridge_node import Probe  # noqa: E402
+from test_uav_bridge_node import ros_domain  # noqa: E402,F401 - fixture
+from test_uav_bridge_peer import wait_until  # noqa: E402
+
+
+def _start(module, *params, domain):
+    env = dict(os.environ, ROS_DOMAIN_ID=str(domain))
+    args = [arg for param in params for arg in ('-p', param)]
+    return subprocess.Popen([sys.executable, '-m', module, '--ros-args', *args], env=env, stdout=subprocess.PIPE,
+                            stderr=subprocess.PIPE, text=True)
+
+
+def test_mission_holds_station_and_lands_on_a_reel_trip(ros_domain):  # noqa: F811
+    peer = ArduCopterPeerDouble(speedup=5.0, ekf_delay=20.0).start()
+    processes = [
+        _start('uav_bridge.mavlink_bridge', f'url:=tcp:127.0.0.1:{peer.port}', 'pose_rate:=20.0', 'imu_rate:=5.0',
+               'global_rate:=1.0', 'link_timeout:=1.0', domain=ros_domain),
+        _start('uav_bridge.mission_node', 'altitude:=5.0', 'radial:=2.5', 'bearing:=90.0', 'retry_period:=0.5',
+               domain=ros_domain)]
+    probe = Probe()
+    phases = []
+    probe.node.create_subscription(MissionState, '/mission/state', phases.append, LATCHED)
+    reel = probe.node.create_publisher(ReelState, '/reel/state', STATE)
+    try:
+        wait_until(lambda: phases and phases[-1].phase == 'hold', timeout=90, what='the hold phase')
+        assert [p.phase for p in phases][:2] == ['wait', 'guided']
+        assert {'arm', 'takeoff', 'climb'} <= {p.phase for p in phases}
+        # the station: 2.5 m radial at bearing 90 deg (north, world y), 5 m up; NED at the double
+        wait_until(lambda: np.allclose(peer.snapshot()['position'], [2.5, 0.0, -5.0], atol=0.05),
+                   what='the station')
+        p = probe.got['pose'][-1].pose.position
+        assert (p.x, p.y, p.z) == pytest.approx((0.0, 2.5, 5.0), abs=0.1)
+        assert (phases[-1].station.x, phases[-1].station.y, phases[-1].station.z) == pytest.approx((0.0, 2.5, 5.0))
+        trip = ReelState()
+        trip.mode = ReelState.MODE_FAULT
+        reel.publish(trip)
+        wait_until(lambda: phases[-1].phase == 'land', what='the abort')
+        assert phases[-1].aborted and 'reel' in phases[-1].reason
+        wait_until(lambda: phases[-1].phase == 'landed', timeout=90, what='landed')
+        assert not peer.snapshot()['armed'] and peer.snapshot()['position'][2] > -0.1
+    finally:
+        probe.close()
+        errors = []
+        for process in processes:
+            process.send_signal(signal.SIGINT)
+            _, err = process.communicate(timeout=20)
+            errors.append((process.returncode, err))
+        peer.close()
+    for status, err in errors:
+        assert status == 0 and 'Traceback' not in err, err
