@@ -21,6 +21,7 @@ setup(
         'console_scripts': [
             'mavlink_bridge = uav_bridge.mavlink_bridge:main',
             'mission = uav_bridge.mission_node:main',
+            'sitl = uav_bridge.sitl_node:main',
         ],
     },
 )

@@ -1,0 +1,28 @@
+"""Station-keeping statistics of the flight report on known tracks."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from uav_bridge.report import hold_interval
+from uav_bridge.report import station_keeping
+
+
+def test_station_keeping_of_a_circle_with_heave():
+    t = np.linspace(0.0, 2 * np.pi, 2000, endpoint=False)
+    positions = np.column_stack([15.0 + 0.6 * np.cos(t), 0.6 * np.sin(t), 30.0 + 0.54 * np.sin(3 * t)])
+    stats = station_keeping(positions, (15.0, 0.0, 30.0))
+    assert stats['peak_to_peak'] == pytest.approx(1.08, abs=1e-6)
+    assert stats['std'] == pytest.approx(0.54 / np.sqrt(2), rel=1e-3)
+    assert stats['radius'] == pytest.approx(0.6, abs=1e-6)
+    assert stats['from_station'] == pytest.approx(np.hypot(0.6, 0.54), abs=2e-3)
+
+
+def test_hold_interval_from_phases():
+    station = (0.0, 0.0, 5.0)
+    phases = [(1.0, 'wait', '', station), (40.0, 'climb', '', station), (50.0, 'hold', '', station),
+              (90.0, 'land', 'end of the mission', station)]
+    assert hold_interval(phases) == (50.0, 90.0)
+    assert hold_interval(phases[:3]) == (50.0, np.inf)
+    assert hold_interval(phases[:2]) is None

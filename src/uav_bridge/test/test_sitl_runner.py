@@ -1,0 +1,35 @@
+"""SitlRunner's command line and its refusals (the real binary runs in test/test_uav_bridge_sitl.py)."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+
+from uav_bridge.sitl_runner import SitlConfig
+from uav_bridge.sitl_runner import SitlError
+from uav_bridge.sitl_runner import SitlRunner
+from uav_bridge.sitl_runner import locate_binary
+
+
+def test_command_line_and_port(tmp_path):
+    defaults = tmp_path / 'copter.parm'
+    defaults.write_text('FRAME_CLASS 1\n')
+    runner = SitlRunner(SitlConfig(Path('/opt/arducopter'), defaults, tmp_path, instance=3, speedup=4.0,
+                                   home='-35.3,149.1,584,0'))
+    assert runner.command() == ['/opt/arducopter', '--model', '+', '--speedup', '4', '--defaults', str(defaults),
+                                '-I3', '--home', '-35.3,149.1,584,0', '-w']
+    assert runner.config.port == 5790
+    assert runner.exit_status() is None
+
+
+def test_refusals_name_the_file(tmp_path, monkeypatch):
+    monkeypatch.delenv('ARDUPILOT_SITL_BIN', raising=False)
+    with pytest.raises(SitlError, match='ARDUPILOT_SITL_BIN'):
+        locate_binary('')
+    with pytest.raises(SitlError, match='not an executable file'):
+        locate_binary(str(tmp_path / 'missing'))
+    with pytest.raises(SitlError, match='defaults file .*not found'):
+        SitlRunner(SitlConfig(Path('/bin/true'), tmp_path / 'none.parm', tmp_path))
+    monkeypatch.setenv('ARDUPILOT_SITL_BIN', '/bin/true')
+    assert locate_binary('') == Path('/bin/true')

@@ -1,0 +1,144 @@
+"""After-run report of a UAV flight: station keeping during the mission's hold phase, from a bag.
+
+Reads ``/uav/pose`` (world, ENU), ``/mission/state`` (phases, station) and ``/uav/state``
+(link staleness, reconnects, reboots). During ``hold`` it computes the altitude's peak-to-peak
+range and standard deviation and the horizontal radius about the mean position, the numbers
+the thesis gives for its indoor flights (Sec. 6.3: 1.08 m peak-to-peak, 0.18 m standard
+deviation, within a 0.60 m radius; untethered 0.99 m, 0.18 m, 0.48 m), plus the largest
+distance from the station. The summary says whether a tether acted on the UAV in this run
+(a ``/tether/state`` topic in the bag), since the thesis's numbers are for a tethered UAV
+flown by an RC pilot and are only comparable then.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import matplotlib
+
+matplotlib.use('Agg')
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+from rosbags.highlevel import AnyReader  # noqa: E402
+from rosbags.highlevel import AnyReaderError  # noqa: E402
+
+THESIS_INDOOR = {'peak_to_peak': 1.08, 'std': 0.18, 'radius': 0.60}
+THESIS_UNTETHERED = {'peak_to_peak': 0.99, 'std': 0.18, 'radius': 0.48}
+
+
+def _stamp(header) -> float:
+    return header.stamp.sec + header.stamp.nanosec * 1e-9
+
+
+def read_flight(bag_path: Path) -> dict:
+    """Poses (t, x, y, z), mission phases (t, phase, reason, station), UAV states, topic names of a bag."""
+    poses, phases, states = [], [], []
+    wanted = {'/uav/pose', '/mission/state', '/uav/state'}
+    try:
+        with AnyReader([Path(bag_path)]) as reader:
+            topics = {c.topic for c in reader.connections}
+            connections = [c for c in reader.connections if c.topic in wanted]
+            for connection, _, raw in reader.messages(connections=connections):
+                m = reader.deserialize(raw, connection.msgtype)
+                if connection.topic == '/uav/pose':
+                    p = m.pose.position
+                    poses.append((_stamp(m.header), p.x, p.y, p.z))
+                elif connection.topic == '/mission/state':
+                    phases.append((_stamp(m.header), m.phase, m.reason, (m.station.x, m.station.y, m.station.z)))
+                else:
+                    states.append((_stamp(m.header), m.stale, m.reconnects, m.reboots))
+    except AnyReaderError as error:
+        raise ValueError(f'{bag_path}: cannot read the bag: {error}') from None
+    return {'poses': np.array(poses, dtype=float).reshape(-1, 4), 'phases': phases, 'states': states,
+            'topics': topics}
+
+
+def hold_interval(phases: list) -> tuple[float, float] | None:
+    """Start and end (s) of the first hold phase; the end is inf while it lasted to the end of the bag."""
+    start = next((t for t, phase, _, _ in phases if phase == 'hold'), None)
+    if start is None:
+        return None
+    end = next((t for t, phase, _, _ in phases if t > start and phase != 'hold'), np.inf)
+    return start, end
+
+
+def station_keeping(positions: np.ndarray, station) -> dict:
+    """Altitude peak-to-peak and std, horizontal radius about the mean and largest distance from ``station``."""
+    horizontal = positions[:, :2]
+    return {'peak_to_peak': float(np.ptp(positions[:, 2])), 'std': float(np.std(positions[:, 2])),
+            'radius': float(np.max(np.linalg.norm(horizontal - horizontal.mean(axis=0), axis=1))),
+            'from_station': float(np.max(np.linalg.norm(positions - np.asarray(station), axis=1)))}
+
+
+def flight_report(bag_path: str, out_dir: str) -> list[str]:
+    """Plot the UAV's altitude and track with the mission phases; return the station-keeping lines.
+
+    Raises:
+        ValueError: the bag cannot be read.
+    """
+    flight = read_flight(Path(bag_path))
+    out = Path(out_dir)
+    out.mkdir(parents=True, exist_ok=True)
+    poses, phases = flight['poses'], flight['phases']
+    if poses.shape[0] == 0:
+        return ['uav: no /uav/pose messages in the bag'
+                + (f' (mission phase at the end: {phases[-1][1]}: {phases[-1][2]})' if phases else '')]
+    lines = [f'uav: {poses.shape[0]} poses over {poses[-1, 0] - poses[0, 0]:.1f} s; mission phases: '
+             + (' → '.join(dict.fromkeys(phase for _, phase, _, _ in phases)) if phases else 'no /mission/state')]
+    interval = hold_interval(phases)
+    station = phases[-1][3] if phases else None
+    if interval is not None:
+        inside = (poses[:, 0] >= interval[0]) & (poses[:, 0] < interval[1])
+        if inside.sum() >= 2:
+            stats = station_keeping(poses[inside, 1:], station)
+            tether = '/tether/state' in flight['topics']
+            lines.append(f'uav hold {interval[0]:.1f}-{min(interval[1], poses[-1, 0]):.1f} s ({inside.sum()} poses), '
+                         f'station {station[2]:g} m up, {np.hypot(station[0], station[1]):g} m radial: altitude '
+                         f'peak-to-peak {stats["peak_to_peak"]:.3f} m, std {stats["std"]:.3f} m, horizontal radius '
+                         f'{stats["radius"]:.3f} m, largest distance from the station {stats["from_station"]:.3f} m')
+            lines.append(f'  thesis Sec. 6.3 (indoor, tethered, RC pilot): {THESIS_INDOOR["peak_to_peak"]} m, '
+                         f'{THESIS_INDOOR["std"]} m, {THESIS_INDOOR["radius"]} m; untethered '
+                         f'{THESIS_UNTETHERED["peak_to_peak"]} m, {THESIS_UNTETHERED["std"]} m, '
+                         f'{THESIS_UNTETHERED["radius"]} m'
+                         + ('' if tether else ' — no tether acted on this UAV (no /tether/state): not comparable'))
+    else:
+        lines.append('uav: the mission never reached its hold phase'
+                     + (f' (last phase {phases[-1][1]}: {phases[-1][2]})' if phases else ''))
+    if phases and phases[-1][2]:
+        lines.append(f'uav mission end: {phases[-1][1]}: {phases[-1][2]}')
+    states = flight['states']
+    if states:
+        stale_edges = sum(1 for a, b in zip(states, states[1:]) if b[1] and not a[1])
+        lines.append(f'uav link: {stale_edges} stale periods after the first message, {states[-1][2]} '
+                     f'connections, {states[-1][3]} autopilot reboots detected')
+    _plot(poses, phases, interval, station, out / 'uav_flight.png')
+    lines.append('uav: plot uav_flight.png')
+    return lines
+
+
+def _plot(poses, phases, interval, station, path: Path) -> None:
+    t0 = poses[0, 0]
+    fig, (ax_z, ax_xy) = plt.subplots(1, 2, figsize=(12, 4.5), gridspec_kw={'width_ratios': [2, 1]})
+    ax_z.plot(poses[:, 0] - t0, poses[:, 3], lw=1.0, color='tab:blue', label='UAV altitude (world z)')
+    if station is not None:
+        ax_z.axhline(station[2], color='k', ls=':', lw=0.8, label='station')
+    if interval is not None:
+        ax_z.axvspan(interval[0] - t0, min(interval[1], poses[-1, 0]) - t0, color='tab:green', alpha=0.1,
+                     label='hold')
+    for t, phase, _, _ in phases:
+        ax_z.axvline(t - t0, color='0.7', lw=0.5)
+        ax_z.text(t - t0, ax_z.get_ylim()[1], phase, rotation=90, va='top', fontsize=7)
+    ax_z.set_xlabel('time (s, sim)')
+    ax_z.set_ylabel('m')
+    ax_z.legend(loc='lower right', fontsize=8)
+    ax_xy.plot(poses[:, 1], poses[:, 2], lw=0.8, color='tab:blue')
+    if station is not None:
+        ax_xy.plot(station[0], station[1], 'k+', ms=12, label='station')
+    ax_xy.plot(0.0, 0.0, 'rs', ms=6, label='guide way (world origin)')
+    ax_xy.set_xlabel('x east (m)')
+    ax_xy.set_ylabel('y north (m)')
+    ax_xy.set_aspect('equal', adjustable='datalim')
+    ax_xy.legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)

@@ -1,0 +1,67 @@
+"""ROS 2 node ``sitl``: runs a real ArduCopter SITL for the scene, for as long as the node runs.
+
+A thin wrapper around :class:`uav_bridge.sitl_runner.SitlRunner`, so a scene can start the
+autopilot the ``mavlink_bridge`` node connects to. SITL runs in wall time at ``speedup``; it
+waits for the bridge to connect before it runs. If SITL ends on its own the node logs its
+last lines and exits with status 1 (the bringup then ends the run naming the node); when the
+node ends, SITL is killed.
+"""
+
+from __future__ import annotations
+
+import sys
+import tempfile
+from pathlib import Path
+
+from rclpy.node import Node
+
+from tether_common.node_main import ConfigurationError
+from tether_common.node_main import run_node
+from tether_common.ros_parameters import declare_parameters
+from uav_bridge.sitl_params import PARAMETERS
+from uav_bridge.sitl_runner import SitlConfig
+from uav_bridge.sitl_runner import SitlError
+from uav_bridge.sitl_runner import SitlRunner
+from uav_bridge.sitl_runner import locate_binary
+
+
+class SitlNode(Node):
+    """Starts SITL, watches it, kills it at the end."""
+
+    def __init__(self) -> None:
+        super().__init__('sitl')
+        try:
+            params = declare_parameters(self, PARAMETERS)
+            binary = locate_binary(params['binary'])
+            defaults = Path(params['defaults']) if params['defaults'] else binary.parent / 'copter.parm'
+            workdir = Path(params['workdir'] or tempfile.mkdtemp(prefix='tethersim-sitl-'))
+            self.runner = SitlRunner(SitlConfig(binary, defaults, workdir, instance=params['instance'],
+                                                speedup=params['speedup'], model=params['model'],
+                                                home=params['home']))
+        except (SitlError, ValueError) as error:
+            raise ConfigurationError(str(error)) from None
+        self.runner.start()
+        self.create_timer(0.5, self.watch)
+        self.get_logger().info(f'SITL started: {" ".join(self.runner.command())} in {workdir} '
+                               f'(MAVLink on tcp:127.0.0.1:{self.runner.config.port})')
+
+    def watch(self) -> None:
+        """End the node when SITL ended on its own."""
+        status = self.runner.exit_status()
+        if status is not None:
+            self.get_logger().error(f'SITL exited with status {status}; its last lines:\n{self.runner.log_tail()}')
+            raise SystemExit(1)
+
+    def destroy_node(self) -> None:
+        """Kill SITL with the node."""
+        self.runner.stop()
+        super().destroy_node()
+
+
+def main(args=None):
+    """Run the SITL node."""
+    sys.exit(run_node(SitlNode, args))
+
+
+if __name__ == '__main__':
+    main()
