@@ -22,6 +22,7 @@ setup(
             'mavlink_bridge = uav_bridge.mavlink_bridge:main',
             'mission = uav_bridge.mission_node:main',
             'sitl = uav_bridge.sitl_node:main',
+            'builtin_uav = uav_bridge.builtin_uav_node:main',
         ],
     },
 )

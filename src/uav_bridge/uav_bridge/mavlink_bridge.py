@@ -53,6 +53,8 @@ from uav_bridge.frames import quaternion_enu_to_yaw_ned
 from uav_bridge.mavlink_bridge_params import PARAMETERS
 from uav_bridge.session import LinkStatus
 from uav_bridge.session import MavlinkSession
+from uav_bridge.ros_fill import fill_quaternion
+from uav_bridge.ros_fill import fill_vector
 from uav_bridge.session import SessionConfig
 
 WORLD_FRAMES = ('world', '')
@@ -143,20 +145,20 @@ class MavlinkBridge(Node):
         if isinstance(sample, telemetry.Kinematics):
             pose = PoseStamped()
             pose.header.stamp, pose.header.frame_id = header_stamp, 'world'
-            _fill_vector(pose.pose.position, sample.position)
-            _fill_quaternion(pose.pose.orientation, sample.orientation)
+            fill_vector(pose.pose.position, sample.position)
+            fill_quaternion(pose.pose.orientation, sample.orientation)
             self.pose_pub.publish(pose)
             twist = TwistStamped()
             twist.header.stamp, twist.header.frame_id = header_stamp, 'world'
-            _fill_vector(twist.twist.linear, sample.velocity)
-            _fill_vector(twist.twist.angular, sample.angular_velocity)
+            fill_vector(twist.twist.linear, sample.velocity)
+            fill_vector(twist.twist.angular, sample.angular_velocity)
             self.twist_pub.publish(twist)
         elif isinstance(sample, telemetry.ImuSample):
             imu = Imu()
             imu.header.stamp, imu.header.frame_id = header_stamp, 'uav'
-            _fill_quaternion(imu.orientation, sample.orientation)
-            _fill_vector(imu.angular_velocity, sample.angular_velocity)
-            _fill_vector(imu.linear_acceleration, sample.linear_acceleration)
+            fill_quaternion(imu.orientation, sample.orientation)
+            fill_vector(imu.angular_velocity, sample.angular_velocity)
+            fill_vector(imu.linear_acceleration, sample.linear_acceleration)
             self.imu_pub.publish(imu)
         elif isinstance(sample, telemetry.GlobalFix):
             fix = NavSatFix()
@@ -214,14 +216,6 @@ class MavlinkBridge(Node):
         result = future.result(timeout=self.command_timeout)
         response.success, response.message = result.success, result.message
         return response
-
-
-def _fill_vector(target, values) -> None:
-    target.x, target.y, target.z = (float(v) for v in values)
-
-
-def _fill_quaternion(target, values) -> None:
-    target.x, target.y, target.z, target.w = (float(v) for v in values)
 
 
 def main(args=None):

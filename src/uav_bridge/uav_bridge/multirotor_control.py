@@ -5,7 +5,7 @@ thrust (N, along body +z) and body torque (N m, FLU) the plant's UAV rigid body 
 (``tether_dynamics.plant.bodies.body_step``). Two loops:
 
 * position (outer): a PID on the ENU position error gives the desired force
-  ``F = m (Kp e_p + Ki ∫e_p + Kd e_v + g e3) - f_tether``, with the tether's measured force
+  ``F = m (Kp e_p + Ki ∫e_p + Kd e_v + g e3) - f_tether`` (e_v against the reference's rate), with the tether's measured force
   on the UAV as feed-forward when it is given; the thrust is ``F · R e3`` and the desired
   body z axis ``F / |F|``, tilt limited to ``max_tilt``;
 * attitude (inner): the geometric controller on SO(3) of Lee, Leok and McClamroch (2010),
@@ -65,17 +65,20 @@ class StationController:
         self._t: float | None = None
 
     def step(self, t: float, state: UavBodyState, reference, yaw: float = 0.0,
-             tether_force=None) -> tuple[float, np.ndarray]:
+             tether_force=None, reference_velocity=None) -> tuple[float, np.ndarray]:
         """Return (thrust N, body torque N m) holding ``reference`` (m, world) at heading ``yaw`` (rad, ENU).
 
-        ``tether_force`` (N, world) is the tether's measured force on the UAV, fed forward.
+        ``tether_force`` (N, world) is the tether's measured force on the UAV, fed forward;
+        ``reference_velocity`` (m/s, world) the reference's rate of change (a ramp), zero if None.
         """
         g = self.gains
         dt = 0.0 if self._t is None else t - self._t
         self._t = t
         error = np.asarray(reference, dtype=float) - state.position
         self.integral = np.clip(self.integral + dt * error, -g.integral_limit, g.integral_limit)
-        accel = g.kp * error + g.ki * self.integral - g.kd * state.velocity + self.gravity * E3
+        velocity_error = (np.zeros(3) if reference_velocity is None else np.asarray(reference_velocity, dtype=float)) \
+            - state.velocity
+        accel = g.kp * error + g.ki * self.integral + g.kd * velocity_error + self.gravity * E3
         force = self.mass * accel
         if tether_force is not None:
             force = force - np.asarray(tether_force, dtype=float)

@@ -1,0 +1,162 @@
+"""The built-in UAV: the plant's UAV rigid body flown by the station controller (no rclpy).
+
+For runs without an autopilot. The body is ``tether_dynamics.plant.bodies.body_step`` (the
+form of Eq. 7.44-7.45: thrust along body +z, body torque, gravity, the tether's force at the
+attachment point), the same function the plant integrates; the controller is
+:class:`uav_bridge.multirotor_control.StationController`. :class:`BuiltinUav` answers the
+commands the MAVLink bridge forwards to ArduPilot, with ArduCopter's meaning: GUIDED and
+LAND modes, arm, take off to an altitude above the take-off point, position targets in
+GUIDED, LAND descending at ``land_speed`` and disarming on the ground. While disarmed the
+body rests at its start pose (on the ground, at ``ground`` height). Its estimate is ready
+at once (it has no EKF start-up).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from tether_dynamics.plant import bodies
+from uav_bridge.multirotor_control import StationController
+from uav_bridge.multirotor_control import UavBodyState
+
+MODES = ('GUIDED', 'LAND')
+
+
+@dataclass(frozen=True)
+class BuiltinUavConfig:
+    """The body, where it starts, and how it lands."""
+
+    mass: float = 2.0                                   # kg
+    inertia: tuple = ((0.03, 0.0, 0.0), (0.0, 0.03, 0.0), (0.0, 0.0, 0.05))   # kg m^2, body
+    attach_offset: tuple = (0.0, 0.0, -0.1)             # m, tether attachment from the CoM, body FLU
+    start: tuple = (0.0, 0.0, 0.0)                      # m, CoM at rest on the ground, world
+    gravity: float = 9.80665                            # m/s^2
+    dt: float = 1e-3                                    # s, body integration step
+    land_speed: float = 0.5                             # m/s, LAND descent rate
+    landed_below: float = 0.05                          # m above the start height counts as landed
+
+
+@dataclass(frozen=True)
+class BuiltinUavState:
+    """What the built-in UAV reports after a step (the topics the bridge publishes)."""
+
+    armed: bool
+    mode: str
+    position: np.ndarray            # m, world
+    velocity: np.ndarray            # m/s, world
+    acceleration: np.ndarray        # m/s^2, world
+    quaternion: np.ndarray          # (x, y, z, w), body FLU -> world
+    angular_velocity: np.ndarray    # rad/s, body
+
+
+class BuiltinUav:
+    """Body plus controller plus command logic, stepped with explicit time."""
+
+    def __init__(self, config: BuiltinUavConfig) -> None:
+        self.config = config
+        self.inertia = np.asarray(config.inertia, dtype=float)
+        self.inertia_inv = np.linalg.inv(self.inertia)
+        self.rho = np.asarray(config.attach_offset, dtype=float)
+        self.start = np.asarray(config.start, dtype=float)
+        self.body = np.zeros(bodies.BS_SIZE)
+        self.armed = False
+        self.mode = 'GUIDED'
+        self.reference = self.start.copy()
+        self.yaw = math.pi / 2
+        self.thrust = 0.0
+        self.torque = np.zeros(3)
+        self._rest()
+        self.controller = StationController(config.mass, self.inertia, config.gravity)
+        self._t: float | None = None
+
+    def _rest(self) -> None:
+        self.body[:] = 0.0
+        self.body[bodies.BS_POS:bodies.BS_POS + 3] = self.start
+        self.body[bodies.BS_QUAT:bodies.BS_QUAT + 4] = (0.0, 0.0, math.sin(self.yaw / 2), math.cos(self.yaw / 2))
+
+    # commands, as the bridge's services carry them
+
+    def set_mode(self, name: str) -> tuple[bool, str]:
+        """GUIDED or LAND."""
+        name = name.upper()
+        if name not in MODES:
+            return False, f'unknown mode {name!r} for the built-in UAV; known: {", ".join(MODES)}'
+        self.mode = name
+        if name == 'GUIDED':
+            self.reference = self.body[bodies.BS_POS:bodies.BS_POS + 3].copy()
+        return True, f'mode {name}'
+
+    def arm(self, arm: bool) -> tuple[bool, str]:
+        """Arm or disarm (disarming in flight refused, as ArduCopter does)."""
+        if not arm and self.armed and not self._on_ground():
+            return False, 'disarm refused while flying'
+        if arm and not self.armed:
+            self.controller = StationController(self.config.mass, self.inertia, self.config.gravity)
+            self.reference = self.body[bodies.BS_POS:bodies.BS_POS + 3].copy()
+        self.armed = arm
+        return True, 'armed' if arm else 'disarmed'
+
+    def takeoff(self, altitude: float) -> tuple[bool, str]:
+        """Climb ``altitude`` m above the current position (armed, GUIDED)."""
+        if not self.armed or self.mode != 'GUIDED':
+            return False, 'takeoff needs the UAV armed in GUIDED'
+        self.reference = self.body[bodies.BS_POS:bodies.BS_POS + 3] + [0.0, 0.0, altitude]
+        return True, 'takeoff accepted'
+
+    def land(self) -> tuple[bool, str]:
+        """Descend at ``land_speed`` where the UAV is, disarm on the ground."""
+        self.mode = 'LAND'
+        self.reference = self.body[bodies.BS_POS:bodies.BS_POS + 3].copy()
+        return True, 'land accepted'
+
+    def setpoint(self, position) -> bool:
+        """A position target in world, used in GUIDED while armed."""
+        if self.mode != 'GUIDED' or not self.armed:
+            return False
+        self.reference = np.asarray(position, dtype=float).copy()
+        return True
+
+    # stepping
+
+    def step(self, t: float, tether_force) -> BuiltinUavState:
+        """Advance to ``t`` (s) under the tether's force on the UAV (N, world) held over the step."""
+        force = np.asarray(tether_force, dtype=float)
+        if self._t is not None and t > self._t:
+            n_sub = max(1, math.ceil((t - self._t) / self.config.dt - 1e-9))
+            dt = (t - self._t) / n_sub
+            for _ in range(n_sub):
+                self._advance(dt, force)
+        self._t = t
+        if self.armed:
+            state = self._body_state()
+            ramp = [0.0, 0.0, -self.config.land_speed] if self.mode == 'LAND' else None
+            self.thrust, self.torque = self.controller.step(t, state, self.reference, self.yaw, force, ramp)
+        b = self.body
+        return BuiltinUavState(self.armed, self.mode, b[0:3].copy(), b[3:6].copy(), b[13:16].copy(), b[6:10].copy(),
+                               b[10:13].copy())
+
+    def _advance(self, dt: float, force: np.ndarray) -> None:
+        if not self.armed:
+            self._rest()
+            return
+        if self.mode == 'LAND':
+            self.reference[2] = max(self.start[2] - 0.2, self.reference[2] - self.config.land_speed * dt)
+            if self._on_ground():
+                self.armed = False
+                self._rest()
+                return
+        bodies.body_step(self.body, self.config.mass, self.inertia, self.inertia_inv, self.rho, self.thrust,
+                         self.torque, force, self.config.gravity, dt)
+        if self.body[bodies.BS_POS + 2] < self.start[2]:          # the ground stops the body
+            self.body[bodies.BS_POS + 2] = self.start[2]
+            self.body[bodies.BS_VEL + 2] = max(0.0, self.body[bodies.BS_VEL + 2])
+
+    def _on_ground(self) -> bool:
+        return self.body[bodies.BS_POS + 2] <= self.start[2] + self.config.landed_below
+
+    def _body_state(self) -> UavBodyState:
+        b = self.body
+        return UavBodyState(b[0:3].copy(), b[3:6].copy(), b[6:10].copy(), b[10:13].copy())

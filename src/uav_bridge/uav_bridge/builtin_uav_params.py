@@ -1,0 +1,18 @@
+"""Parameters of the builtin_uav node (no rclpy import; the bringup validates scenes with them)."""
+
+from __future__ import annotations
+
+from tether_common.parameters import ParamSpec
+
+PARAMETERS: tuple[ParamSpec, ...] = (
+    ParamSpec('mass', 2.0, 'UAV mass', 'kg', low=0.05, high=100.0, read_only=True),
+    ParamSpec('inertia', [0.03, 0.03, 0.05], 'principal moments of inertia about the centre of mass, body FLU',
+              'kg m^2', read_only=True),
+    ParamSpec('attach_offset', [0.0, 0.0, -0.1], 'tether attachment from the centre of mass, body FLU (as the '
+              'plant\'s uav_attach_offset)', 'm', read_only=True),
+    ParamSpec('start', [0.0, 0.0, 0.0], 'centre of mass at rest on the ground before take-off, world (ENU)', 'm',
+              read_only=True),
+    ParamSpec('rate', 100.0, 'controller steps and published poses per second of sim time (the body is '
+              'integrated at 1 kHz between them)', 'Hz', low=10.0, high=1000.0, read_only=True),
+    ParamSpec('land_speed', 0.5, 'descent rate in LAND', 'm/s', low=0.05, high=5.0, read_only=True),
+)

@@ -1,0 +1,61 @@
+"""The mission flying the built-in UAV node: the bridge's interface without an autopilot, a tether pull."""
+
+from __future__ import annotations
+
+import signal
+
+import pytest
+
+rclpy = pytest.importorskip('rclpy')
+
+from geometry_msgs.msg import WrenchStamped  # noqa: E402
+from tether_msgs.msg import MissionState  # noqa: E402
+from tether_msgs.msg import ReelState  # noqa: E402
+
+from tether_common.qos import LATCHED  # noqa: E402
+from tether_common.qos import STATE  # noqa: E402
+from test_uav_bridge_node import Probe  # noqa: E402
+from test_uav_bridge_node import ros_domain  # noqa: E402,F401 - fixture
+from test_uav_bridge_peer import wait_until  # noqa: E402
+from test_uav_mission_node import _start  # noqa: E402
+
+
+def test_mission_flies_the_builtin_uav_against_a_tether_pull(ros_domain):  # noqa: F811
+    processes = [
+        _start('uav_bridge.builtin_uav_node', 'start:=[0.0, 0.0, 0.3]', domain=ros_domain),
+        _start('uav_bridge.mission_node', 'altitude:=5.0', 'radial:=2.5', 'retry_period:=0.5', domain=ros_domain)]
+    probe = Probe()
+    phases = []
+    probe.node.create_subscription(MissionState, '/mission/state', phases.append, LATCHED)
+    reel = probe.node.create_publisher(ReelState, '/reel/state', STATE)
+    wrench = probe.node.create_publisher(WrenchStamped, '/tether/uav_wrench', STATE)
+    pull = WrenchStamped()
+    pull.header.frame_id = 'world'
+    pull.wrench.force.x, pull.wrench.force.z = -2.0, -3.0      # toward the reel and down
+    try:
+        wait_until(lambda: probe.state() is not None, timeout=60, what='/uav/state')
+        assert probe.state().position_ready and probe.state().connected
+        wait_until(lambda: phases and phases[-1].phase == 'hold', timeout=60, what='the hold phase')
+        assert phases[0].phase == 'wait' and {'arm', 'takeoff', 'climb'} <= {p.phase for p in phases}
+        pull.header.stamp = probe.got['pose'][-1].header.stamp
+        wrench.publish(pull)
+        wait_until(lambda: probe.got['pose'] and abs(probe.got['pose'][-1].pose.position.x - 2.5) < 0.03
+                   and abs(probe.got['pose'][-1].pose.position.z - 5.0) < 0.03
+                   and abs(probe.got['twist'][-1].twist.linear.x) < 0.01, timeout=60, what='the station')
+        assert probe.got['pose'][-1].header.frame_id == 'world' and probe.got['imu'][-1].header.frame_id == 'uav'
+        assert probe.state().ready and probe.state().mode == 'GUIDED'
+        trip = ReelState()
+        trip.mode = ReelState.MODE_FAULT
+        reel.publish(trip)
+        wait_until(lambda: phases[-1].phase == 'landed', timeout=60, what='landed after the reel trip')
+        assert phases[-1].aborted
+        assert probe.got['pose'][-1].pose.position.z == pytest.approx(0.3)
+    finally:
+        probe.close()
+        errors = []
+        for process in processes:
+            process.send_signal(signal.SIGINT)
+            _, err = process.communicate(timeout=20)
+            errors.append((process.returncode, err))
+    for status, err in errors:
+        assert status == 0 and 'Traceback' not in err, err
