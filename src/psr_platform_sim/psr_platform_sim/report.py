@@ -14,24 +14,20 @@ import matplotlib
 matplotlib.use('Agg')
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
-from rosbags.highlevel import AnyReader  # noqa: E402
-from rosbags.highlevel import AnyReaderError  # noqa: E402
+
+from tether_bringup.bag_reader import read_bag  # noqa: E402
 
 TOPIC = '/platform/state'
 
 
 def _read_states(bag_path: Path) -> np.ndarray:
     """Rows of (stamp, heave, roll, pitch, commanded heave, roll, pitch, in_workspace)."""
-    try:
-        with AnyReader([bag_path]) as reader:
-            connections = [c for c in reader.connections if c.topic == TOPIC]
-            rows = []
-            for connection, _, raw in reader.messages(connections=connections):
-                m = reader.deserialize(raw, connection.msgtype)
-                rows.append((m.header.stamp.sec + m.header.stamp.nanosec * 1e-9, m.heave, m.roll, m.pitch,
-                             m.commanded_heave, m.commanded_roll, m.commanded_pitch, float(m.in_workspace)))
-    except AnyReaderError as error:
-        raise ValueError(f'{bag_path}: cannot read the bag: {error}') from None
+    bag = read_bag(bag_path)
+    if TOPIC not in bag.topics:
+        return np.zeros((0, 8))
+    rows = [(m.header.stamp.sec + m.header.stamp.nanosec * 1e-9, m.heave, m.roll, m.pitch,
+             m.commanded_heave, m.commanded_roll, m.commanded_pitch, float(m.in_workspace))
+            for _, m in bag.decoded(TOPIC)]
     return np.array(rows, dtype=float).reshape(-1, 8)
 
 
@@ -43,7 +39,7 @@ def tracking_report(bag_path: str, out_dir: str) -> list[str]:
         out_dir: where ``platform_tracking.png`` is written.
 
     Raises:
-        ValueError: the bag cannot be read.
+        tether_bringup.errors.BagError: the bag cannot be read.
     """
     data = _read_states(Path(bag_path))
     out = Path(out_dir)

@@ -1,8 +1,4 @@
-"""``tethersim bag info`` and ``tethersim bag export``: what a bag holds, and one topic as CSV.
-
-Messages are decoded with ``rosbags``, learning every type (custom ones too) from the
-definitions stored in the bag itself, so no ROS installation is needed to read a bag.
-"""
+"""``tethersim bag info`` and ``tethersim bag export``: what a bag holds, and one topic as CSV."""
 
 from __future__ import annotations
 
@@ -11,20 +7,16 @@ import dataclasses
 from pathlib import Path
 
 import numpy as np
-from rosbags.typesys import Stores
-from rosbags.typesys import get_types_from_msg
-from rosbags.typesys import get_typestore
 
-from tether_bringup.bag_reader import Bag
 from tether_bringup.bag_reader import read_bag
 from tether_bringup.errors import BagError
 
 
 def bag_summary_lines(path: str | Path) -> list[str]:
-    """Return the lines of ``tethersim bag info``: topics, types, counts, rates, duration."""
+    """Return the lines of ``tethersim bag info``: topics, types, counts, rates, duration, damage."""
     bag = read_bag(path)
     size = bag.path.stat().st_size
-    state = 'finalized' if bag.complete else 'TRUNCATED (not finalized; read up to the last complete chunk)'
+    state = 'finalized' if bag.complete else 'DAMAGED: read everything intact (tethersim bag recover writes a finalized copy)'
     lines = [
         f'bag: {bag.path} ({size / 2**20:.2f} MiB, {state})',
         f'duration: {bag.duration:.3f} s, {len(bag.messages)} messages, {len(bag.topics)} topics',
@@ -34,28 +26,9 @@ def bag_summary_lines(path: str | Path) -> list[str]:
         span = ((topic.last_ns or 0) - (topic.first_ns or 0)) / 1e9
         rate = (topic.count - 1) / span if topic.count > 1 and span > 0 else 0.0
         lines.append(f'{topic.name:<28} {topic.type_name:<42} {topic.count:>7} {rate:8.1f}')
+    if not bag.complete:
+        lines.append(f'damaged at {bag.damage_line()}')
     return lines
-
-
-def typestore_for(bag: Bag):
-    """Return a rosbags typestore that knows every type whose definition the bag holds."""
-    store = get_typestore(Stores.EMPTY)
-    types = {}
-    for topic in bag.topics.values():
-        types.update(get_types_from_msg(topic.definition, topic.type_name))
-    store.register(types)
-    return store
-
-
-def decoded_messages(path: str | Path, topic: str) -> list[tuple[int, object]]:
-    """Return (log time ns, decoded message) of every message on ``topic``."""
-    bag = read_bag(path, topics=[topic])
-    if topic not in bag.topics:
-        known = ', '.join(sorted(read_bag(path).topics)) or 'none'
-        raise BagError(f'{bag.path}: no messages on topic {topic} (topics: {known})')
-    store = typestore_for(bag)
-    type_name = bag.topics[topic].type_name
-    return [(m.log_time, store.deserialize_cdr(m.data, type_name)) for m in bag.messages]
 
 
 def flatten(message: object, prefix: str = '') -> dict[str, object]:
@@ -79,7 +52,7 @@ def flatten(message: object, prefix: str = '') -> dict[str, object]:
 
 def export_csv(path: str | Path, topic: str, csv_path: str | Path) -> int:
     """Write one row per message of ``topic`` (log time first); return the row count."""
-    rows = [{'log_time': log_time / 1e9, **flatten(message)} for log_time, message in decoded_messages(path, topic)]
+    rows = [{'log_time': log_time / 1e9, **flatten(message)} for log_time, message in read_bag(path).decoded(topic)]
     columns: list[str] = []
     for row in rows:
         columns.extend(key for key in row if key not in columns)

@@ -1,7 +1,10 @@
-"""Read a bag written by the recorder (or by rosbag2), also one cut short by a crash.
+"""The one way to read a bag: topics, messages and their decoding, also of a damaged file.
 
-A finalized file is read through its summary. A file without one (the recorder was
-killed) is read linearly up to its last complete chunk and flagged as truncated.
+The file is walked record by record (:mod:`tether_bringup.mcap_scan`), so a bag cut short
+by a crash or damaged anywhere yields everything intact in it, with ``Bag.damage`` naming
+each damaged place; a finalized, undamaged bag has no damage. Messages are decoded with
+``rosbags``, learning every type (custom ones too) from the definitions stored in the bag,
+so no ROS installation is needed to read one.
 """
 
 from __future__ import annotations
@@ -9,15 +12,19 @@ from __future__ import annotations
 from dataclasses import dataclass
 from dataclasses import field
 from pathlib import Path
+from typing import Any
 
-from mcap.exceptions import McapError
-from mcap.reader import NonSeekingReader
-from mcap.reader import make_reader
+import yaml
+from rosbags.typesys import Stores
+from rosbags.typesys import get_types_from_msg
+from rosbags.typesys import get_typestore
 
 from tether_bringup.bag_writer import QosRecord
 from tether_bringup.bag_writer import load_qos_profiles
 from tether_bringup.errors import BagError
-
+from tether_bringup.mcap_scan import MAGIC
+from tether_bringup.mcap_scan import Damage
+from tether_bringup.mcap_scan import scan
 
 @dataclass
 class BagMessage:
@@ -45,12 +52,17 @@ class BagTopic:
 
 @dataclass
 class Bag:
-    """Topics and messages of a bag, in log-time order."""
+    """Topics and messages of a bag, in log-time order, and the damage found reading it."""
 
     path: Path
     topics: dict[str, BagTopic] = field(default_factory=dict)
     messages: list[BagMessage] = field(default_factory=list)
-    complete: bool = True
+    damage: list[Damage] = field(default_factory=list)
+
+    @property
+    def complete(self) -> bool:
+        """True for a finalized bag without damage."""
+        return not self.damage
 
     @property
     def duration(self) -> float:
@@ -58,6 +70,36 @@ class Bag:
         if not self.messages:
             return 0.0
         return (self.messages[-1].log_time - self.messages[0].log_time) / 1e9
+
+    def damage_line(self) -> str:
+        """One line saying where and why the bag is damaged (empty for a complete bag)."""
+        if not self.damage:
+            return ''
+        more = f' (and {len(self.damage) - 1} more damaged place(s))' if len(self.damage) > 1 else ''
+        return f'{self.damage[0]}{more}'
+
+    def decoded(self, topic: str) -> list[tuple[int, Any]]:
+        """Return (log time ns, decoded message) of every message on ``topic``."""
+        if topic not in self.topics:
+            known = ', '.join(sorted(self.topics)) or 'none'
+            raise BagError(f'{self.path}: no messages on topic {topic} (topics: {known})')
+        entry = self.topics[topic]
+        store = get_typestore(Stores.EMPTY)
+        try:
+            store.register(get_types_from_msg(entry.definition, entry.type_name))
+        except Exception as error:  # rosbags raises its own parser errors for a bad definition
+            raise BagError(f'{self.path}: the definition of {entry.type_name} in the bag cannot be parsed '
+                           f'({error})') from None
+        decoded = []
+        for message in self.messages:
+            if message.topic != topic:
+                continue
+            try:
+                decoded.append((message.log_time, store.deserialize_cdr(message.data, entry.type_name)))
+            except Exception as error:  # rosbags raises plain exceptions for malformed CDR
+                raise BagError(f'{self.path}: a {topic} message at log time {message.log_time / 1e9:.3f} s '
+                               f'does not decode as {entry.type_name} ({type(error).__name__})') from None
+        return decoded
 
 
 def resolve_bag(path: str | Path) -> Path:
@@ -75,49 +117,52 @@ def resolve_bag(path: str | Path) -> Path:
 
 
 def read_bag(path: str | Path, topics: list[str] | None = None) -> Bag:
-    """Read every message of a bag (optionally only ``topics``); see the module docstring."""
+    """Read every message of a bag (optionally only ``topics``); see the module docstring.
+
+    Raises:
+        BagError: no such bag, not an MCAP file, or nothing in it is recoverable.
+    """
     file = resolve_bag(path)
-    bag = Bag(path=file)
-    with open(file, 'rb') as stream:
-        try:
-            reader = make_reader(stream)
-            summary = reader.get_summary()
-            records = reader.iter_messages(log_time_order=True) if summary is not None else None
-            if records is not None:
-                _collect(bag, records, topics)
-                return bag
-        except McapError:
-            pass
-        except (ValueError, OSError, EOFError) as error:
-            raise BagError(f'{file}: not a readable MCAP file ({error})') from None
-        stream.seek(0)
-        bag.complete = False
-        try:
-            _collect(bag, NonSeekingReader(stream).iter_messages(log_time_order=False), topics)
-        except McapError as error:
-            if not bag.messages and not bag.topics:
-                raise BagError(f'{file}: not a readable MCAP file ({error})') from None
-        except (ValueError, EOFError) as error:
-            if not bag.messages:
-                raise BagError(f'{file}: not a readable MCAP file ({error})') from None
+    try:
+        with open(file, 'rb') as stream:
+            size = stream.seek(0, 2)
+            stream.seek(0)
+            head = stream.read(len(MAGIC))
+            if head != MAGIC:
+                if not head:
+                    raise BagError(f'{file}: empty file: nothing to read')
+                if MAGIC.startswith(head):
+                    raise BagError(f'{file}: {size} bytes, cut inside the MCAP magic: nothing to read')
+                raise BagError(f'{file}: not an MCAP file (it does not begin with the MCAP magic bytes)')
+            scanned = scan(stream, size)
+    except OSError as error:
+        raise BagError(f'{file}: cannot read ({error.strerror})') from None
+    if not scanned.channels and scanned.damage:
+        raise BagError(f'{file}: {size} bytes, damaged before any topic was recorded: {scanned.damage[0]}')
+    bag = Bag(path=file, damage=scanned.damage)
+    for message in scanned.messages:
+        channel = scanned.channels.get(message.channel_id)
+        if channel is None or (topics is not None and channel.topic not in topics):
+            continue
+        topic = bag.topics.get(channel.topic) or _topic(bag, channel, scanned.schemas.get(channel.schema_id))
+        topic.count += 1
+        topic.first_ns = message.log_time if topic.first_ns is None else min(topic.first_ns, message.log_time)
+        topic.last_ns = message.log_time if topic.last_ns is None else max(topic.last_ns, message.log_time)
+        bag.messages.append(BagMessage(channel.topic, message.log_time, message.publish_time, message.data))
+    for channel in scanned.channels.values():
+        if channel.topic not in bag.topics and (topics is None or channel.topic in topics):
+            _topic(bag, channel, scanned.schemas.get(channel.schema_id))
     bag.messages.sort(key=lambda message: message.log_time)
     return bag
 
 
-def _collect(bag: Bag, records, topics: list[str] | None) -> None:
-    for schema, channel, message in records:
-        if topics is not None and channel.topic not in topics:
-            continue
-        topic = bag.topics.get(channel.topic)
-        if topic is None:
-            topic = BagTopic(
-                name=channel.topic,
-                type_name=schema.name if schema else '',
-                qos=load_qos_profiles(channel.metadata.get('offered_qos_profiles', '')),
-                type_hash=channel.metadata.get('topic_type_hash', ''),
-                definition=schema.data.decode() if schema else '')
-            bag.topics[channel.topic] = topic
-        topic.count += 1
-        topic.first_ns = message.log_time if topic.first_ns is None else topic.first_ns
-        topic.last_ns = message.log_time
-        bag.messages.append(BagMessage(channel.topic, message.log_time, message.publish_time, message.data))
+def _topic(bag: Bag, channel, schema) -> BagTopic:
+    try:
+        qos = load_qos_profiles(channel.metadata.get('offered_qos_profiles', ''))
+    except (yaml.YAMLError, AttributeError, TypeError):  # a damaged QoS string: keep the default profile
+        qos = [QosRecord()]
+    topic = BagTopic(name=channel.topic, type_name=schema.name if schema else '', qos=qos,
+                     type_hash=channel.metadata.get('topic_type_hash', ''),
+                     definition=schema.data.decode(errors='replace') if schema else '')
+    bag.topics[channel.topic] = topic
+    return topic

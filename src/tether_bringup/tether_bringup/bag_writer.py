@@ -89,10 +89,10 @@ class BagWriter:
     """Write one rosbag2-compatible MCAP file; see the module docstring for the layout."""
 
     def __init__(self, directory: str | Path, *, flush_period: float = 1.0,
-                 chunk_size: int = 4 * 1024 * 1024) -> None:
+                 chunk_size: int = 4 * 1024 * 1024, file_name: str | None = None) -> None:
         self.directory = Path(directory)
         self.directory.mkdir(parents=True, exist_ok=True)
-        self.path = self.directory / f'{self.directory.name}_0.mcap'
+        self.path = self.directory / (file_name or f'{self.directory.name}_0.mcap')
         self._stream = open(self.path, 'wb')
         self._writer = Writer(self._stream, chunk_size=chunk_size, compression=CompressionType.ZSTD)
         self._writer.start(profile='ros2', library='tethersim')
@@ -109,8 +109,9 @@ class BagWriter:
         """Topics registered so far, by name."""
         return self._topics
 
-    def add_topic(self, name: str, type_name: str, qos: list[QosRecord], type_hash: str = '') -> None:
-        """Register a topic; its schema is the installed concatenated ``.msg`` definition.
+    def add_topic(self, name: str, type_name: str, qos: list[QosRecord], type_hash: str = '',
+                  definition: str | None = None) -> None:
+        """Register a topic; its schema is ``definition`` or else the installed concatenated ``.msg`` one.
 
         ``type_hash`` is the publisher's RIHS01 hash; without one (``/clock``, subscribed
         before any publisher exists) the installed type description's hash is written.
@@ -120,9 +121,8 @@ class BagWriter:
         type_hash = type_hash or installed_type_hash(type_name)
         schema_id = self._schemas.get(type_name)
         if schema_id is None:
-            schema_id = self._writer.register_schema(
-                name=type_name, encoding='ros2msg',
-                data=concatenated_definition(type_name).encode())
+            text = concatenated_definition(type_name) if definition is None else definition
+            schema_id = self._writer.register_schema(name=type_name, encoding='ros2msg', data=text.encode())
             self._schemas[type_name] = schema_id
         channel_id = self._writer.register_channel(
             topic=name, message_encoding='cdr', schema_id=schema_id,

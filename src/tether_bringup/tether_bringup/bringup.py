@@ -24,11 +24,14 @@ from rclpy.node import Node
 from rclpy.signals import SignalHandlerOptions
 
 from tether_bringup.bag_info import bag_summary_lines
+from tether_bringup.bag_recover import recover_bag
 from tether_bringup.bag_reader import resolve_bag
 from tether_bringup.environment import run_environment
+from tether_bringup.errors import BagError
 from tether_bringup.errors import RunDirectoryError
 from tether_bringup.errors import RunError
 from tether_bringup.processes import ChildProcess
+from tether_bringup.recorder_params import DEFAULT_EXCLUDE
 from tether_bringup.scene import NodeConfig
 
 READY_TIMEOUT = 60.0
@@ -44,7 +47,7 @@ class RunOptions:
     out_dir: Path
     domain_id: int
     discovery: str = 'localhost'
-    exclude: tuple[str, ...] = ('/rosout', '/parameter_events')
+    exclude: tuple[str, ...] = DEFAULT_EXCLUDE
     reports: tuple[str, ...] = ()
     title: str = ''
 
@@ -130,12 +133,19 @@ def execute(nodes: list[NodeConfig], source, options: RunOptions) -> int:
         status = 1
     bag_dir = out / 'bag'
     if any(bag_dir.glob('*.mcap')):
-        lines += bag_summary_lines(bag_dir)
-        report_lines, report_failed = _reports(options.reports, bag_dir, out)
-        lines += report_lines
-        lines += [f'plot: {png}' for png in sorted(out.glob('*.png'))]
-        if report_failed and status == 0:
-            status = 1
+        try:
+            recovery = recover_bag(bag_dir)
+            bag_lines = ([recovery.line()] if recovery else []) + bag_summary_lines(bag_dir)
+        except BagError as error:
+            lines.append(f'no recording: {error}')
+            status = status or 1
+        else:
+            lines += bag_lines
+            report_lines, report_failed = _reports(options.reports, bag_dir, out)
+            lines += report_lines
+            lines += [f'plot: {png}' for png in sorted(out.glob('*.png'))]
+            if report_failed and status == 0:
+                status = 1
     text = '\n'.join(lines) + '\n'
     (out / 'summary.txt').write_text(text)
     print(text, end='', flush=True)

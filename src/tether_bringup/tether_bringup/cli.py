@@ -69,6 +69,8 @@ def build_parser() -> argparse.ArgumentParser:
     export.add_argument('bag')
     export.add_argument('--topic', required=True)
     export.add_argument('--csv', required=True, type=Path)
+    recover = bag_commands.add_parser('recover', help='rewrite a damaged or unfinalized bag as a finalized one')
+    recover.add_argument('bag')
 
     for group, (_, help_text) in ANALYSIS_GROUPS.items():
         commands.add_parser(group, help=help_text, add_help=False)
@@ -104,19 +106,24 @@ def _replay(args) -> int:
     from tether_bringup.bringup import execute
     from tether_bringup.environment import reserved_domain
     from tether_bringup.errors import BagError
+    from tether_bringup.recorder_params import DEFAULT_EXCLUDE
     from tether_bringup.scene import find_scene
     from tether_bringup.scene import load_scene
     from tether_bringup.time_sources import BagPlayback
 
-    bag = read_bag(args.bag, topics=args.topics)
+    bag = read_bag(args.bag)
     missing = [t for t in args.topics or [] if t not in bag.topics]
     if missing:
-        raise BagError(f'{bag.path}: no messages on {", ".join(missing)} (topics: {", ".join(sorted(read_bag(args.bag).topics))})')
-    topics = {name: (t.type_name, t.qos) for name, t in bag.topics.items() if name != '/clock'}
-    messages = [m for m in bag.messages if m.topic != '/clock']
+        raise BagError(f'{bag.path}: no messages on {", ".join(missing)} (topics: {", ".join(sorted(bag.topics))})')
+    chosen = set(args.topics or bag.topics) - {'/clock'}
+    topics = {name: (t.type_name, t.qos) for name, t in bag.topics.items() if name in chosen}
+    messages = [m for m in bag.messages if m.topic in chosen]
     if not messages:
-        raise BagError(f'{bag.path}: nothing to replay')
-    nodes, exclude, reports, name = [], ['/rosout', '/parameter_events'], [], 'replay'
+        raise BagError(f'{bag.path}: nothing to replay' + (f' (damaged at {bag.damage_line()})' if bag.damage else ''))
+    if bag.damage:
+        print(f'tethersim: warning: {bag.path} is damaged at {bag.damage_line()}; replaying its '
+              f'{len(messages)} intact messages', file=sys.stderr, flush=True)
+    nodes, exclude, reports, name = [], list(DEFAULT_EXCLUDE), [], 'replay'
     if args.scene:
         scene = load_scene(find_scene(args.scene))
         nodes, exclude, reports, name = scene.nodes, scene.exclude, scene.reports, f'replay-{scene.name}'
@@ -142,6 +149,12 @@ def _bag(args) -> int:
     from tether_bringup.bag_info import export_csv
     if args.bag_command == 'info':
         print('\n'.join(bag_summary_lines(args.bag)))
+        return 0
+    if args.bag_command == 'recover':
+        from tether_bringup.bag_recover import recover_bag
+        from tether_bringup.bag_reader import resolve_bag
+        recovery = recover_bag(args.bag)
+        print(recovery.line() if recovery else f'{resolve_bag(args.bag)}: finalized and undamaged; nothing to recover')
         return 0
     rows = export_csv(args.bag, args.topic, args.csv)
     print(f'wrote {rows} rows of {args.topic} to {args.csv}')

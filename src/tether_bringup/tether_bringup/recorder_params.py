@@ -4,9 +4,12 @@ from __future__ import annotations
 
 from tether_common.parameters import ParamSpec
 
+DEFAULT_EXCLUDE = ('/rosout', '/parameter_events')
+"""Topics a run does not record unless its scene says otherwise: ROS's own log and parameter events."""
+
 PARAMETERS = (
     ParamSpec('bag_directory', 'bag', 'Directory of the rosbag2 bag to write (created)'),
-    ParamSpec('exclude', ['/rosout', '/parameter_events'], 'Topics not recorded'),
+    ParamSpec('exclude', list(DEFAULT_EXCLUDE), 'Topics not recorded'),
     ParamSpec('expected_nodes', [], 'Node names to wait for before reporting ready', item_type=str),
     ParamSpec('ready_file', '', 'File written with the recorded topics once subscribed'),
     ParamSpec('discovery_period', 0.1, 'Period of the topic discovery', 's', 0.01, 5.0),

@@ -37,6 +37,7 @@ from ament_index_python.packages import get_package_prefix
 from ament_index_python.packages import get_package_share_directory
 
 from tether_bringup.errors import SceneError
+from tether_bringup.recorder_params import DEFAULT_EXCLUDE
 from tether_common.parameters import ParamSpec
 from tether_common.parameters import spec_table
 
@@ -51,7 +52,6 @@ TOP_LEVEL = {
 }
 NODE_KEYS = ('package', 'executable', 'script', 'parameters', 'external')
 RECORD_KEYS = {'exclude': ParamSpec('exclude', [], 'Topics not recorded', item_type=str)}
-DEFAULT_EXCLUDE = ['/rosout', '/parameter_events']
 
 
 @dataclass
