@@ -78,7 +78,8 @@ def cmd_optimize(args: argparse.Namespace) -> list[str]:
              f'gamma {settings.gammas_deg[0]:g}..{settings.gammas_deg[-1]:g} deg',
              f'Newton solves run: {solves_run:,} in {result.seconds:.1f} s '
              f'({result.seconds / solves_run * 1e6:.2f} us per solve incl. post-processing); '
-             f'thesis: ~70 million solves on a supercomputer, 41 arm lengths in parallel']
+             f'full study {settings.solves:,} solves; thesis (Sec. 2.5): "~70 million numerical solves", '
+             f'on a supercomputer with the 41 arm lengths in parallel']
     if arm.size < ratios.size:
         lines.append(f'fraction run: {arm.size}/{ratios.size} arm lengths; extrapolated full study: '
                      f'{settings.solves:,} solves, {full_seconds / 60:.1f} min on this machine')
@@ -101,8 +102,8 @@ def cmd_optimize(args: argparse.Namespace) -> list[str]:
     cache = args.cache
     best = Design(1.0, top[0][1], top[0][2])
     best_ball = Design(1.0, top_ball[0][1], top_ball[0][2], np.radians(top_ball[0][3]))
-    thesis_best = Design(1.0, 0.825, 1.325)
-    thesis_ball = Design(1.0, 0.975, 1.15, np.radians(30.0))
+    thesis_best = Design(1.0, *optimize.TABLE_2_2[0][1:3])
+    thesis_ball = Design(1.0, *optimize.TABLE_2_3[0][1:3], np.radians(optimize.TABLE_2_3[0][3]))
     figures = []
     for label, design, limited in (('project best', best, False), ('project best, ball limit', best_ball, True),
                                    ('thesis Table 2.2 #1', thesis_best, False),
@@ -113,7 +114,8 @@ def cmd_optimize(args: argparse.Namespace) -> list[str]:
         lines.append(f'{label} (l={design.l:g}, d={design.d:g}{gamma}): area {region.area:.1f} deg2; '
                      f'{_region_ranges(table, region)}')
         figures.append((table, region, f'{label} l={design.l:g} d={design.d:g}{gamma}'))
-    lines.append('thesis: roll -32..32 deg, pitch -25..35 deg (ball-limited prototype design)')
+    lines.append('thesis (Sec. 2.5, Fig. 2.4): "The roll and pitch range achievable is from -32° to 32° and '
+                 '-25° to 35°"')
     study_figure(result, args.out / 'study_area.png')
     optimized_figure([figures[0], figures[1]], args.out / 'optimized_workspace.png')
     workspace_figure(figures[0][0], figures[0][1], args.out / 'workspace_best.png',
@@ -143,7 +145,8 @@ def cmd_workspace(args: argparse.Namespace) -> list[str]:
     workspace_figure(table, nominal, args.out / 'workspace.png',
                      f'r={design.r:g}, l={design.l:g}, d={design.d:g}')
     workspace_figure(table, ball, args.out / 'workspace_ball.png',
-                     f'r={design.r:g}, l={design.l:g}, d={design.d:g}, gamma={args.gamma:g} deg, ball limit 30 deg')
+                     f'r={design.r:g}, l={design.l:g}, d={design.d:g}, gamma={args.gamma:g} deg, '
+                     f'ball limit {np.degrees(design.ball_limit):g} deg')
     return [f'workspace of r={design.r:g} l={design.l:g} d={design.d:g} ({args.steps}^2 grid, '
             f'table in {seconds:.1f} s incl. cache)',
             f'feasible points (Eq. 2.14-2.15): {table.feasible.mean() * 100:.1f} %',
@@ -185,8 +188,10 @@ def cmd_track(args: argparse.Namespace) -> list[str]:
     generator = PathGenerator(table, ball_region(table), sim0.rail_base)
     print(f'[{PROG} track] table {args.steps}^2 ready in {time.perf_counter() - start:.1f} s',
           file=sys.stderr, flush=True)
-    lines = [f'prototype r={sim0.design.r:g} m, l={sim0.design.l:g} m, d={sim0.design.d:g} m, gamma=30 deg, '
-             f'table {args.steps}^2 (slider step {generator.step * 1000:.2f} mm); firmware 30 Hz',
+    rate = params['command_rate']
+    lines = [f'prototype r={sim0.design.r:g} m, l={sim0.design.l:g} m, d={sim0.design.d:g} m, '
+             f'gamma={np.degrees(sim0.design.gamma):g} deg, table {args.steps}^2 (slider step '
+             f'{generator.step * 1000:.2f} mm); slider commands at {rate:g} Hz',
              'profile      heave range  |roll| max  |pitch| max  clipped  Eq.2.17 error mean/max (deg)  '
              'played RMS error roll/pitch (deg), heave (mm)']
     profiles, sims = [], []
@@ -194,10 +199,12 @@ def cmd_track(args: argparse.Namespace) -> list[str]:
         try:
             sim = PlatformSimulator({**params, 'profile': name})
             profile = (workspace_profile(table, generator.region) if name == 'workspace'
-                       else named_profile(name, args.seed, args.duration, rate=30.0))
+                       else named_profile(name, args.seed, args.duration, params['sea_state'],
+                                          params['boat_length'], rate))
         except ProfileError as error:
             raise UsageError(str(error)) from None
-        path = generator.sliders(profile.heave, profile.roll, profile.pitch, exact=False, heave_limit=1.1)
+        path = generator.sliders(profile.heave, profile.roll, profile.pitch, exact=False,
+                                 heave_limit=params['heave_limit'])
         inside = path.inside
         pose = platform_pose(solve_corners(sim0.design, path.heights + sim0.rail_base)[0])
         error = np.degrees(np.hypot(pose.roll - path.roll, pose.pitch - path.pitch))[inside]
@@ -209,12 +216,14 @@ def cmd_track(args: argparse.Namespace) -> list[str]:
             f'{error.mean() if error.size else 0.0:.4f} / {error.max() if error.size else 0.0:.4f}'
             f'                 {np.degrees(rms["roll"]):.3f} / {np.degrees(rms["pitch"]):.3f}, '
             f'{rms["heave"] * 1000:.1f}'
-            + (f'   (thesis: pitch +-{thesis[0]}, roll +-{thesis[1]})' if thesis else ''))
+            + (f'   (thesis Sec. 5.6: pitch +-{thesis[0]}, roll +-{thesis[1]})' if thesis else ''))
         profiles.append(profile)
         sims.append(sim)
         print(f'[{PROG} track] {name} done', file=sys.stderr, flush=True)
-    lines.append('thesis: heave-only 1.6 m range, 10 s peak; HPR up to 2.2 m heave; prototype measured '
-                 '1.2 deg mean roll/pitch error (std 2.8-3.1 deg)')
+    lines.append('thesis (Sec. 5.6): the heave-only JONSWAP profile "had a 1.6 m peak wave amplitude and a 10 '
+                 'second peak period"; the HPR profiles had "a heave range up to ... 2.2 m"')
+    lines.append('thesis (Sec. 2.7): the prototype\'s "average error for roll and pitch was 1.2° with a standard '
+                 'deviation of 2.8°" (workspace profile) and 3.1° (boat profile)')
     profiles_figure(profiles, args.out / 'profiles.png')
     tracking_figure(sims[-1], args.out / 'tracking.png')
     return lines

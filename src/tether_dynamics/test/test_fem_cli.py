@@ -15,8 +15,19 @@ def test_pendulum_writes_plots_and_summary(tmp_path: Path, capsys: pytest.Captur
     for name in ('snapshots_linear.png', 'snapshots_quadratic.png', 'energy.png', 'length.png', 'summary.txt'):
         assert (out / name).stat().st_size > 0
     text = capsys.readouterr().out
-    assert 'Verdict' in text and 'quadratic' in text
     assert text == (out / 'summary.txt').read_text()
+    assert 'Neither element type peaks after 5 s' in text  # 0.3 s simulated: no late peak can exist
+
+
+def test_pendulum_with_linear_elements_only_makes_no_claim_about_quadratic(
+        tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    out = tmp_path / 'pend'
+    assert fem_cli.main(['pendulum', '--elements', 'linear', '--span', '0.2', '--n', '3', '--dt', '2e-4',
+                         '--out', str(out)]) == 0
+    text = capsys.readouterr().out
+    assert 'Only linear elements were run' in text
+    assert 'both element types' not in text and 'quadratic:' not in text
+    assert not (out / 'snapshots_quadratic.png').exists()
 
 
 @pytest.mark.parametrize('argv', [['pendulum', '--elements', 'cubic'], ['pendulum', '--dt', '-1'],
