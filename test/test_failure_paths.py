@@ -73,7 +73,7 @@ def test_missing_scene_name_lists_installed_scenes():
 def test_bad_command_line_values_give_one_line(tmp_path):
     result = tethersim('run', 'default', '--rate', '-3', timeout=60)
     assert result.returncode == 2
-    assert result.stderr.strip().splitlines() == ["tethersim: error: argument --rate: expected a positive number, got '-3'"]
+    assert result.stderr.strip().splitlines() == ["tethersim run: error: argument --rate: expected a positive number, got '-3'"]
     missing = tethersim('bag', 'info', str(tmp_path / 'nothing.mcap'), timeout=60)
     assert missing.returncode == 2
     assert missing.stderr.strip() == f'tethersim: error: {tmp_path / "nothing.mcap"}: no such bag'

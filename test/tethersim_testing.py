@@ -15,7 +15,7 @@ SCENES = ROOT / 'test' / 'scenes'
 
 def tethersim(*args: str, timeout: float = 180.0, **kwargs) -> subprocess.CompletedProcess:
     """Run ``tethersim ARGS`` in the current environment and capture its output."""
-    return subprocess.run([sys.executable, '-m', 'tether_bringup.cli', *args], capture_output=True,
+    return subprocess.run([sys.executable, '-m', 'tether_bringup', *args], capture_output=True,
                           text=True, timeout=timeout, cwd=kwargs.pop('cwd', ROOT), **kwargs)
 
 
@@ -23,7 +23,7 @@ def start_tethersim(*args: str, **kwargs) -> subprocess.Popen:
     """Start ``tethersim ARGS`` without waiting for it (output piped unless given)."""
     kwargs.setdefault('stdout', subprocess.PIPE)
     kwargs.setdefault('stderr', subprocess.PIPE)
-    return subprocess.Popen([sys.executable, '-m', 'tether_bringup.cli', *args], text=True, cwd=ROOT, **kwargs)
+    return subprocess.Popen([sys.executable, '-m', 'tether_bringup', *args], text=True, cwd=ROOT, **kwargs)
 
 
 def processes_of(run_dir: Path) -> list[psutil.Process]:

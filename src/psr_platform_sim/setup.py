@@ -21,5 +21,8 @@ setup(
         'console_scripts': [
             'platform = psr_platform_sim.platform_node:main',
         ],
+        'tethersim.commands': [
+            'psr = psr_platform_sim.cli:COMMAND',
+        ],
     },
 )

@@ -22,5 +22,9 @@ setup(
         'console_scripts': [
             'reel = smart_reel.reel_node:main',
         ],
+        'tethersim.commands': [
+            'reel = smart_reel.cli:COMMAND',
+            'report = smart_reel.surrogate_report:COMMAND',
+        ],
     },
 )

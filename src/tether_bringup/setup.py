@@ -24,5 +24,11 @@ setup(
         'console_scripts': [
             'recorder = tether_bringup.recorder_node:main',
         ],
+        'tethersim.commands': [
+            'run = tether_bringup.cli:RUN',
+            'replay = tether_bringup.cli:REPLAY',
+            'scenes = tether_bringup.cli:SCENES',
+            'bag = tether_bringup.cli:BAG',
+        ],
     },
 )

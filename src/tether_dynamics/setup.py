@@ -21,5 +21,9 @@ setup(
         'console_scripts': [
             'plant = tether_dynamics.plant_node:main',
         ],
+        'tethersim.commands': [
+            'catenary = tether_dynamics.commands.catenary:COMMAND',
+            'fem = tether_dynamics.commands.fem:COMMAND',
+        ],
     },
 )

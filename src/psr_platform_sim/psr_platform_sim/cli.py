@@ -15,9 +15,10 @@ from pathlib import Path
 
 import numpy as np
 
+from tether_common.command_line import Command
 from tether_common.command_line import OneLineParser
 from tether_common.command_line import UsageError
-from tether_common.command_line import run_analysis
+from tether_common.command_line import analysis
 
 PROG = 'tethersim psr'
 
@@ -229,9 +230,8 @@ def cmd_track(args: argparse.Namespace) -> list[str]:
     return lines
 
 
-def build_parser() -> argparse.ArgumentParser:
-    """The argparse parser of ``tethersim psr``."""
-    parser = OneLineParser(prog=PROG, description=__doc__.splitlines()[0])
+def _arguments(parser: argparse.ArgumentParser) -> None:
+    """Add the subcommands of ``tethersim psr`` to its parser."""
     sub = parser.add_subparsers(dest='command', required=True, parser_class=OneLineParser)
 
     opt = sub.add_parser('optimize', help='design parameter study (Sec. 2.5)')
@@ -262,13 +262,7 @@ def build_parser() -> argparse.ArgumentParser:
     tr.add_argument('--cache', type=Path, default=None, help='lookup-table cache directory')
     tr.add_argument('--out', type=Path, default=Path('runs/psr-track'))
     tr.set_defaults(func=cmd_track)
-    return parser
 
 
-def main(argv: list[str] | None = None) -> int:
-    """Entry point of ``tethersim psr``; returns the exit status."""
-    return run_analysis(PROG, build_parser(), argv, lambda args: '\n'.join(args.func(args)))
-
-
-if __name__ == '__main__':
-    sys.exit(main())
+COMMAND = Command('3-PSR wave replicator: workspace, design optimization, path tracking (thesis Ch. 2)',
+                  _arguments, analysis(PROG, lambda args: '\n'.join(args.func(args))))

@@ -4,13 +4,19 @@ from __future__ import annotations
 
 import numpy as np
 
-from psr_platform_sim.cli import main
+from psr_platform_sim.cli import COMMAND
 from psr_platform_sim.kinematics import Design
 from psr_platform_sim.optimize import StudySettings
 from psr_platform_sim.optimize import run_study
 from psr_platform_sim.workspace import ball_region
 from psr_platform_sim.workspace import cached_table
 from psr_platform_sim.workspace import nominal_region
+from tether_common.command_line import dispatch
+
+
+def main(argv: list[str]) -> int:
+    """``tethersim psr ARGV`` through the tethersim dispatch."""
+    return dispatch('tethersim', {'psr': lambda: COMMAND}, ['psr', *argv])
 
 
 def test_small_study_ranks_designs_and_reports_progress():

@@ -3,32 +3,24 @@
 from __future__ import annotations
 
 import argparse
-import sys
 
 from smart_reel import tuning
+from tether_common.command_line import Command
 from tether_common.command_line import OneLineParser
-from tether_common.command_line import run_analysis
+from tether_common.command_line import analysis
 
 PROG = 'tethersim reel'
 
 
-def build_parser() -> argparse.ArgumentParser:
-    """Return the argument parser of ``tethersim reel``."""
-    parser = OneLineParser(prog=PROG, description=__doc__.splitlines()[0])
+def _arguments(parser: argparse.ArgumentParser) -> None:
+    """Add the subcommands of ``tethersim reel`` to its parser."""
     sub = parser.add_subparsers(dest='command', required=True, parser_class=OneLineParser)
     tune = sub.add_parser('tune', help='find the catenary controller gains (smart_reel.tuning)')
     tuning.add_arguments(tune)
-    return parser
 
 
 def _command(args: argparse.Namespace) -> str:
     return tuning.command(args)
 
 
-def main(argv: list[str] | None = None) -> int:
-    """Run ``tethersim reel``; return the exit status."""
-    return run_analysis(PROG, build_parser(), argv, _command)
-
-
-if __name__ == '__main__':
-    sys.exit(main())
+COMMAND = Command('smart reel: catenary-controller gain tuning (Sec. 4.2)', _arguments, analysis(PROG, _command))

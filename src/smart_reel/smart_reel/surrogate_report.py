@@ -26,19 +26,18 @@ from __future__ import annotations
 
 import argparse
 import math
-import sys
 from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
-from rosbags.highlevel import AnyReader
-from rosbags.highlevel import AnyReaderError
 
-from tether_bringup.bag_reader import resolve_bag
+from tether_bringup.bag_reader import Bag
+from tether_bringup.bag_reader import read_bag
 from tether_bringup.errors import BagError
+from tether_common.command_line import Command
 from tether_common.command_line import OneLineParser
 from tether_common.command_line import UsageError
-from tether_common.command_line import run_analysis
+from tether_common.command_line import analysis
 from tether_dynamics.statics.catenary import solve
 from tether_dynamics.statics.reference_length import reference_lengths
 
@@ -72,11 +71,9 @@ def _stamp(msg) -> float:
     return msg.header.stamp.sec + msg.header.stamp.nanosec * 1e-9
 
 
-def _rows(reader, topic: str, fields) -> dict[str, np.ndarray]:
-    connections = [c for c in reader.connections if c.topic == topic]
+def _rows(bag: Bag, topic: str, fields) -> dict[str, np.ndarray]:
     rows = []
-    for connection, _, raw in reader.messages(connections=connections):
-        m = reader.deserialize(raw, connection.msgtype)
+    for _, m in bag.decoded(topic) if topic in bag.topics else []:
         rows.append([_stamp(m)] + [f(m) for f in fields.values()])
     data = np.array(rows, dtype=float).reshape(-1, len(fields) + 1)
     order = np.argsort(data[:, 0], kind='stable')
@@ -87,30 +84,29 @@ def _rows(reader, topic: str, fields) -> dict[str, np.ndarray]:
 def load_run(path: str | Path) -> Run:
     """Read one run's bag (a file, bag directory or run directory)."""
     try:
-        file = resolve_bag(path)
-        with AnyReader([file]) as reader:
-            present = {c.topic for c in reader.connections}
-            missing = [t for t in TOPICS[:4] if t not in present]
-            if missing:
-                raise UsageError(f'{path}: not a surrogate run, no {", ".join(missing)} in the bag')
-            tether = _rows(reader, '/tether/state', {
-                'length': lambda m: m.deployed_length, 'tension_uav': lambda m: m.tension_uav,
-                'tension_reel': lambda m: m.tension_reel, 'departure': lambda m: m.departure_angle,
-                'arrival': lambda m: m.arrival_angle, 'clearance_deck': lambda m: m.clearance_deck,
-                'clearance_sea': lambda m: m.clearance_sea, 'fouling': lambda m: float(m.fouling),
-                'lowest_z': lambda m: m.lowest_point.z})
-            relative = _rows(reader, '/truth/relative', {
-                'dr': lambda m: math.hypot(m.position.x, m.position.y), 'dz': lambda m: m.position.z})
-            reel = _rows(reader, '/reel/state', {
-                'length': lambda m: m.deployed_length, 'arm': lambda m: m.guide_arm_angle,
-                'mode': lambda m: m.mode, 'payout': lambda m: m.payout_rate,
-                'tension_estimate': lambda m: m.tension_estimate})
-            diagnostics = _rows(reader, '/reel/diagnostics', {
-                'trips': lambda m: m.trip_count, 'reference': lambda m: m.reference_length,
-                'filtered': lambda m: m.filtered_reference_length, 'alpha': lambda m: m.filter_alpha})
-            platform = (_rows(reader, '/platform/state', {'heave': lambda m: m.heave})
-                        if '/platform/state' in present else {'t': np.zeros(0), 'heave': np.zeros(0)})
-    except (AnyReaderError, BagError) as error:
+        bag = read_bag(path)
+        present = set(bag.topics)
+        missing = [t for t in TOPICS[:4] if t not in present]
+        if missing:
+            raise UsageError(f'{path}: not a surrogate run, no {", ".join(missing)} in the bag')
+        tether = _rows(bag, '/tether/state', {
+            'length': lambda m: m.deployed_length, 'tension_uav': lambda m: m.tension_uav,
+            'tension_reel': lambda m: m.tension_reel, 'departure': lambda m: m.departure_angle,
+            'arrival': lambda m: m.arrival_angle, 'clearance_deck': lambda m: m.clearance_deck,
+            'clearance_sea': lambda m: m.clearance_sea, 'fouling': lambda m: float(m.fouling),
+            'lowest_z': lambda m: m.lowest_point.z})
+        relative = _rows(bag, '/truth/relative', {
+            'dr': lambda m: math.hypot(m.position.x, m.position.y), 'dz': lambda m: m.position.z})
+        reel = _rows(bag, '/reel/state', {
+            'length': lambda m: m.deployed_length, 'arm': lambda m: m.guide_arm_angle,
+            'mode': lambda m: m.mode, 'payout': lambda m: m.payout_rate,
+            'tension_estimate': lambda m: m.tension_estimate})
+        diagnostics = _rows(bag, '/reel/diagnostics', {
+            'trips': lambda m: m.trip_count, 'reference': lambda m: m.reference_length,
+            'filtered': lambda m: m.filtered_reference_length, 'alpha': lambda m: m.filter_alpha})
+        platform = (_rows(bag, '/platform/state', {'heave': lambda m: m.heave})
+                    if '/platform/state' in present else {'t': np.zeros(0), 'heave': np.zeros(0)})
+    except BagError as error:
         raise UsageError(f'{path}: cannot read the bag: {error}') from None
     if len(reel['t']) == 0 or len(tether['t']) == 0:
         raise UsageError(f'{path}: the bag holds no /reel/state or /tether/state messages')
@@ -324,24 +320,18 @@ def reel_report(bag_path: str, out_dir: str) -> list[str]:
     return report([bag_path], out).splitlines()
 
 
-def build_parser() -> argparse.ArgumentParser:
-    """Return the argument parser of ``tethersim report``."""
-    parser = OneLineParser(prog='tethersim report', description='Reports computed from recorded runs.')
+def _arguments(parser: argparse.ArgumentParser) -> None:
+    """Add the subcommands of ``tethersim report`` to its parser."""
     sub = parser.add_subparsers(dest='command', required=True, parser_class=OneLineParser)
     p = sub.add_parser('surrogate', help='UAV-surrogate experiment, Fig. 6.1-6.4 and Sec. 6.1 numbers')
     p.add_argument('bags', nargs='+', help='run directories, bag directories or .mcap files')
     p.add_argument('--out', type=Path, default=Path('runs/report-surrogate'), help='output directory')
-    return parser
 
 
 def _command(args: argparse.Namespace) -> str:
     return report(args.bags, args.out)
 
 
-def main(argv: list[str] | None = None) -> int:
-    """Run ``tethersim report``; return the exit status."""
-    return run_analysis('tethersim report', build_parser(), argv, _command)
+COMMAND = Command('reports computed from recorded runs: surrogate (UAV-surrogate experiment, Sec. 6.1)',
+                  _arguments, analysis('tethersim report', _command))
 
-
-if __name__ == '__main__':
-    sys.exit(main())

@@ -2,7 +2,13 @@
 
 from __future__ import annotations
 
-from smart_reel.cli import main
+from smart_reel.cli import COMMAND
+from tether_common.command_line import dispatch
+
+
+def main(argv: list[str]) -> int:
+    """``tethersim reel ARGV`` through the tethersim dispatch."""
+    return dispatch('tethersim', {'reel': lambda: COMMAND}, ['reel', *argv])
 
 
 def test_bad_option_is_one_line_exit_2(capsys, tmp_path):
@@ -13,4 +19,4 @@ def test_bad_option_is_one_line_exit_2(capsys, tmp_path):
 
 def test_unknown_command_is_one_line_exit_2(capsys):
     assert main(['detune']) == 2
-    assert capsys.readouterr().err.startswith('tethersim reel: error:')
+    assert capsys.readouterr().err.startswith('tethersim reel: error: argument command: invalid choice')

@@ -1,25 +1,26 @@
-"""The ``tethersim`` command line: run, replay, scenes, bag, and the analysis groups."""
+"""The ``tethersim`` program and the bringup's commands: run, replay, scenes, bag.
+
+Every subcommand, these and the analysis groups of other packages, is a
+:class:`tether_common.command_line.Command` registered under the ``tethersim.commands``
+entry-point group of its package's ``setup.py``; :func:`main` dispatches among the
+installed ones (``python -m tether_bringup`` runs it too).
+"""
 
 from __future__ import annotations
 
 import argparse
-import importlib
 import sys
 import time
 from pathlib import Path
 
 from tether_bringup.errors import TethersimError
+from tether_common.command_line import Command
 from tether_common.command_line import OneLineParser
-from tether_common.command_line import UsageError
+from tether_common.command_line import dispatch
+from tether_common.command_line import installed_commands
 from tether_common.command_line import positive
 
-ANALYSIS_GROUPS = {
-    'catenary': ('tether_dynamics.commands.catenary', 'catenary statics, heave robustness, flying space (thesis Ch. 3)'),
-    'fem': ('tether_dynamics.commands.fem', 'finite-element tether dynamics, the Chapter 9 pendulum'),
-    'psr': ('psr_platform_sim.cli', '3-PSR wave replicator: workspace and design optimization (Ch. 2)'),
-    'reel': ('smart_reel.cli', 'smart reel: catenary-controller gain tuning (Sec. 4.2)'),
-    'report': ('smart_reel.surrogate_report', 'reports from recorded runs: surrogate (UAV-surrogate experiment, Sec. 6.1)'),
-}
+DESCRIPTION = 'Tethered UAV over a USV with a smart reel, as a ROS 2 node graph.'
 
 
 def _domain(text: str) -> int:
@@ -39,18 +40,15 @@ def _add_network(parser: argparse.ArgumentParser) -> None:
                         help='DDS discovery range: localhost (default) or subnet to span machines')
 
 
-def build_parser() -> argparse.ArgumentParser:
-    parser = OneLineParser(prog='tethersim', description='Tethered UAV over a USV with a smart reel, as a ROS 2 node graph.')
-    commands = parser.add_subparsers(dest='command', required=True, parser_class=OneLineParser)
-
-    run = commands.add_parser('run', help='run a scene and record it')
+def _run_arguments(run: argparse.ArgumentParser) -> None:
     run.add_argument('scene', nargs='?', default='default', help='scene name (see `tethersim scenes`) or YAML file')
     run.add_argument('--duration', type=positive(), help='sim time to run, s (default: the scene\'s)')
     run.add_argument('--rate', type=positive(), help='real-time factor (default: the scene\'s)')
     run.add_argument('--out', type=Path, help='run directory (default: runs/<scene>-<time>)')
     _add_network(run)
 
-    replay = commands.add_parser('replay', help='republish a bag with /clock from it, recording a new bag')
+
+def _replay_arguments(replay: argparse.ArgumentParser) -> None:
     replay.add_argument('bag', help='bag file, bag directory or run directory')
     replay.add_argument('--topics', nargs='+', help='replay only these topics')
     replay.add_argument('--rate', type=positive(), default=1.0, help='real-time factor (default 1)')
@@ -59,9 +57,8 @@ def build_parser() -> argparse.ArgumentParser:
     replay.add_argument('--out', type=Path, help='run directory (default: runs/replay-<time>)')
     _add_network(replay)
 
-    commands.add_parser('scenes', help='list the installed scenes')
 
-    bag = commands.add_parser('bag', help='inspect and export bags')
+def _bag_arguments(bag: argparse.ArgumentParser) -> None:
     bag_commands = bag.add_subparsers(dest='bag_command', required=True, parser_class=OneLineParser)
     info = bag_commands.add_parser('info', help='topics, types, counts, rates, duration')
     info.add_argument('bag')
@@ -72,16 +69,12 @@ def build_parser() -> argparse.ArgumentParser:
     recover = bag_commands.add_parser('recover', help='rewrite a damaged or unfinalized bag as a finalized one')
     recover.add_argument('bag')
 
-    for group, (_, help_text) in ANALYSIS_GROUPS.items():
-        commands.add_parser(group, help=help_text, add_help=False)
-    return parser
-
 
 def _default_out(name: str) -> Path:
     return Path('runs') / f'{name}-{time.strftime("%Y%m%d-%H%M%S")}'
 
 
-def _run(args) -> int:
+def _run(args: argparse.Namespace) -> int:
     from tether_bringup.bringup import RunOptions
     from tether_bringup.bringup import execute
     from tether_bringup.environment import reserved_domain
@@ -100,7 +93,7 @@ def _run(args) -> int:
         return execute(scene.nodes, source, options)
 
 
-def _replay(args) -> int:
+def _replay(args: argparse.Namespace) -> int:
     from tether_bringup.bag_reader import read_bag
     from tether_bringup.bringup import RunOptions
     from tether_bringup.bringup import execute
@@ -135,7 +128,7 @@ def _replay(args) -> int:
         return execute(nodes, source, options)
 
 
-def _scenes(args) -> int:
+def _scenes(args: argparse.Namespace) -> int:
     from tether_bringup.scene import list_scenes
     entries = list_scenes()
     width = max((len(name) for name, _ in entries), default=0)
@@ -144,7 +137,7 @@ def _scenes(args) -> int:
     return 0
 
 
-def _bag(args) -> int:
+def _bag(args: argparse.Namespace) -> int:
     from tether_bringup.bag_info import bag_summary_lines
     from tether_bringup.bag_info import export_csv
     if args.bag_command == 'info':
@@ -161,24 +154,16 @@ def _bag(args) -> int:
     return 0
 
 
+RUN = Command('run a scene and record it', _run_arguments, _run, (TethersimError,))
+REPLAY = Command('republish a bag with /clock from it, recording a new bag', _replay_arguments, _replay,
+                 (TethersimError,))
+SCENES = Command('list the installed scenes', lambda parser: None, _scenes, (TethersimError,))
+BAG = Command('inspect, export and recover bags', _bag_arguments, _bag, (TethersimError,))
+
+
 def main(argv: list[str] | None = None) -> int:
     """Entry point of the ``tethersim`` command; returns the exit status."""
-    argv = sys.argv[1:] if argv is None else argv
-    if argv and argv[0] in ANALYSIS_GROUPS:
-        module_name = ANALYSIS_GROUPS[argv[0]][0]
-        try:
-            module = importlib.import_module(module_name)
-        except ModuleNotFoundError:
-            print(f'tethersim: error: the {argv[0]} commands are not installed ({module_name})', file=sys.stderr)
-            return 2
-        return module.main(argv[1:])
-    handlers = {'run': _run, 'replay': _replay, 'scenes': _scenes, 'bag': _bag}
-    try:
-        args = build_parser().parse_args(argv)
-        return handlers[args.command](args)
-    except (TethersimError, UsageError) as error:
-        print(f'tethersim: error: {error}', file=sys.stderr)
-        return 2
+    return dispatch('tethersim', installed_commands(), sys.argv[1:] if argv is None else argv, DESCRIPTION)
 
 
 if __name__ == '__main__':

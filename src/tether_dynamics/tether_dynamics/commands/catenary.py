@@ -21,9 +21,10 @@ from pathlib import Path
 
 import numpy as np
 
+from tether_common.command_line import Command
 from tether_common.command_line import OneLineParser
 from tether_common.command_line import UsageError
-from tether_common.command_line import run_analysis
+from tether_common.command_line import analysis
 from tether_dynamics.commands import catenary_plots
 from tether_dynamics.statics import catenary, flying_space, heave_robustness, reference_length
 
@@ -249,9 +250,8 @@ def _time_point(call: Callable[[], object], repeats: int = 200) -> float:
     return best
 
 
-def build_parser() -> argparse.ArgumentParser:
-    """Return the argument parser of ``tethersim catenary``."""
-    parser = OneLineParser(prog=PROG, description=__doc__.splitlines()[0])
+def _arguments(parser: argparse.ArgumentParser) -> None:
+    """Add the subcommands of ``tethersim catenary`` to its parser."""
     sub = parser.add_subparsers(dest='command', required=True, parser_class=OneLineParser)
     p_an = sub.add_parser('analyze', help='flying-space analysis and fits (Sec. 3.2-3.3)')
     grid = p_an.add_mutually_exclusive_group()
@@ -265,7 +265,6 @@ def build_parser() -> argparse.ArgumentParser:
     p_an.add_argument('--out', type=Path, default=Path('runs/catenary-analyze'), help='output directory')
     p_ref = sub.add_parser('reference', help='reference-length model vs exact (Sec. 4.3)')
     p_ref.add_argument('--out', type=Path, default=Path('runs/catenary-reference'), help='output directory')
-    return parser
 
 
 def _command(args: argparse.Namespace) -> str:
@@ -278,10 +277,5 @@ def _command(args: argparse.Namespace) -> str:
     return analyze(args)
 
 
-def main(argv: list[str] | None = None) -> int:
-    """Run ``tethersim catenary``; return the exit status."""
-    return run_analysis(PROG, build_parser(), argv, _command)
-
-
-if __name__ == '__main__':
-    sys.exit(main())
+COMMAND = Command('catenary statics, heave robustness, flying space (thesis Ch. 3-4)', _arguments,
+                  analysis(PROG, _command))

@@ -6,17 +6,17 @@ import argparse
 import sys
 from pathlib import Path
 
+from tether_common.command_line import Command
 from tether_common.command_line import OneLineParser
 from tether_common.command_line import UsageError
+from tether_common.command_line import analysis
 from tether_common.command_line import positive
-from tether_common.command_line import run_analysis
 from tether_dynamics.fem.errors import FemError
 
 PROG = 'tethersim fem'
 
 
-def _parser() -> OneLineParser:
-    parser = OneLineParser(prog=PROG, description='Finite-element tether dynamics (thesis Ch. 7-9).')
+def _arguments(parser: argparse.ArgumentParser) -> None:
     sub = parser.add_subparsers(dest='command', required=True, parser_class=OneLineParser)
     pend = sub.add_parser('pendulum', help='reproduce the Chapter 9 pendulum (Fig. 9.1-9.4)')
     pend.add_argument('--elements', default='linear,quadratic',
@@ -27,7 +27,6 @@ def _parser() -> OneLineParser:
     pend.add_argument('--method', choices=('rk4', 'verlet'), default='rk4')
     pend.add_argument('--body', choices=('rigid', 'point'), default='rigid')
     pend.add_argument('--out', type=Path, default=Path('runs/fem-pendulum'))
-    return parser
 
 
 def _pendulum(args: argparse.Namespace) -> str:
@@ -68,10 +67,5 @@ def _pendulum(args: argparse.Namespace) -> str:
     return '\n'.join(lines) + '\n'
 
 
-def main(argv: list[str] | None = None) -> int:
-    """Entry point: returns 0 on success, 2 on a user mistake."""
-    return run_analysis(PROG, _parser(), argv, _pendulum, user_errors=(FemError,))
-
-
-if __name__ == '__main__':
-    sys.exit(main())
+COMMAND = Command('finite-element tether dynamics (thesis Ch. 7-9), the Chapter 9 pendulum', _arguments,
+                  analysis(PROG, _pendulum, user_errors=(FemError,)))
