@@ -26,6 +26,7 @@ from pycatenary import MooringLine
 from scipy.interpolate import RegularGridInterpolator
 from scipy.optimize import brentq
 
+from tether_common.constants import GRAVITY
 from tether_dynamics.statics import catenary, flying_space, heave_robustness, reference_length
 
 LAMBDA = catenary.THESIS_LINEAR_DENSITY
@@ -60,7 +61,7 @@ def pycatenary_loop(dr: np.ndarray, dz: np.ndarray, length: np.ndarray) -> np.nd
     """Catenary parameter a per pair from pycatenary's rigid, floorless line."""
     out = np.empty_like(dr)
     for i, (x, y, ell) in enumerate(zip(dr, dz, length, strict=True)):
-        line = MooringLine(fairlead=[x, y], anchor=[0.0, 0.0], L=ell, w=LAMBDA * catenary.GRAVITY,
+        line = MooringLine(fairlead=[x, y], anchor=[0.0, 0.0], L=ell, w=LAMBDA * GRAVITY,
                            floor=False)
         line.compute_solution()
         out[i] = line.catenary.a

@@ -31,6 +31,7 @@ matplotlib.use('Agg')
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
+from tether_common.constants import GRAVITY  # noqa: E402
 from tether_dynamics.fem import diagnostics, scenes  # noqa: E402
 from tether_dynamics.fem.errors import DivergenceError  # noqa: E402
 from tether_dynamics.fem.integrators import simulate, warm_up  # noqa: E402
@@ -128,7 +129,7 @@ ID   LineType   AttachA  AttachB  UnstrLen  NumSegs  LineOutputs
 {dt}     dtM
 1000     WtrDpth
 0        WtrDnsty
-9.81     g
+{g}     g
 0        TmaxIC
 {scheme}  tScheme
 ---------------------------- OUTPUTS -----------------------------------------------------
@@ -143,7 +144,7 @@ def moordyn_run(n: int, dt: float, workdir: Path, scheme: str = 'RK4', span: flo
 
     x, y, z = scenes.PENDULUM_RELEASE
     path = workdir / f'md_{n}_{dt:g}_{scheme}.txt'
-    path.write_text(MOORDYN_INPUT.format(mu=scenes.PENDULUM_MU, ea=scenes.PENDULUM_EA, x=x, y=y, z=z,
+    path.write_text(MOORDYN_INPUT.format(g=GRAVITY, mu=scenes.PENDULUM_MU, ea=scenes.PENDULUM_EA, x=x, y=y, z=z,
                                          mass=scenes.PENDULUM_MASS, length=scenes.PENDULUM_LENGTH, n=n,
                                          dt=dt, scheme=scheme))
     l0 = scenes.PENDULUM_LENGTH / n
@@ -184,7 +185,7 @@ def moordyn_run(n: int, dt: float, workdir: Path, scheme: str = 'RK4', span: flo
     seg = np.linalg.norm(np.diff(pos, axis=1), axis=2)
     eps = np.maximum(seg / l0 - 1.0, 0.0)
     elastic = 0.5 * scenes.PENDULUM_EA * l0 * np.sum(eps**2, axis=1)
-    gravity = 9.81 * np.einsum('i,ri->r', masses, pos[:, :, 2])
+    gravity = GRAVITY * np.einsum('i,ri->r', masses, pos[:, :, 2])
     return wall, t, pos[:, -1], kinetic + gravity + elastic, kinetic
 
 

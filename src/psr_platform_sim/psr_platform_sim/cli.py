@@ -166,6 +166,7 @@ def cmd_track(args: argparse.Namespace) -> list[str]:
     from psr_platform_sim.kinematics import solve_corners
     from psr_platform_sim.path import PathGenerator
     from psr_platform_sim.platform_params import PARAMETERS
+    from psr_platform_sim.platform_params import from_params
     from psr_platform_sim.plots import profiles_figure
     from psr_platform_sim.plots import tracking_figure
     from psr_platform_sim.simulator import PlatformSimulator
@@ -184,7 +185,7 @@ def cmd_track(args: argparse.Namespace) -> list[str]:
     params.update(table_steps=args.steps, cache_dir=str(args.cache or ''), profile_duration=args.duration,
                   seed=args.seed)
     start = time.perf_counter()
-    sim0 = PlatformSimulator({**params, 'profile': 'still'})
+    sim0 = PlatformSimulator(from_params({**params, 'profile': 'still'}))
     table = cached_table(sim0.design, args.steps, args.cache)
     generator = PathGenerator(table, ball_region(table), sim0.rail_base)
     print(f'[{PROG} track] table {args.steps}^2 ready in {time.perf_counter() - start:.1f} s',
@@ -198,7 +199,7 @@ def cmd_track(args: argparse.Namespace) -> list[str]:
     profiles, sims = [], []
     for name in names:
         try:
-            sim = PlatformSimulator({**params, 'profile': name})
+            sim = PlatformSimulator(from_params({**params, 'profile': name}))
             profile = (workspace_profile(table, generator.region) if name == 'workspace'
                        else named_profile(name, args.seed, args.duration, params['sea_state'],
                                           params['boat_length'], rate))

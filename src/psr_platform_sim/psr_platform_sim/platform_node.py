@@ -34,6 +34,7 @@ from sensor_msgs.msg import Imu
 from tether_msgs.msg import PlatformState
 
 from psr_platform_sim.platform_params import PARAMETERS
+from psr_platform_sim.platform_params import from_params
 from psr_platform_sim.simulator import ImuModel
 from psr_platform_sim.simulator import PlatformSimulator
 from psr_platform_sim.waves import ProfileError
@@ -52,7 +53,7 @@ class PlatformNode(Node):
         super().__init__('platform')
         try:
             params = declare_parameters(self, PARAMETERS)
-            self.sim = PlatformSimulator(params)
+            self.sim = PlatformSimulator(from_params(params))
         except (ProfileError, ValueError) as error:
             raise ConfigurationError(str(error)) from None
         self.imu_model = ImuModel(params['seed'], params['imu_gyro_noise'], params['imu_accel_noise'],

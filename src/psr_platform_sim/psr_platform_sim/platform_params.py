@@ -2,7 +2,15 @@
 
 from __future__ import annotations
 
+from collections.abc import Mapping
+from pathlib import Path
+from typing import TYPE_CHECKING
+from typing import Any
+
 from tether_common.parameters import ParamSpec
+
+if TYPE_CHECKING:
+    from psr_platform_sim.simulator import PlatformConfig
 
 PROFILES = ('jonswap', 'boat', 'hpr1', 'hpr2', 'hpr3', 'still', 'workspace')
 """The named motion profiles (:func:`psr_platform_sim.waves.named_profile` and the workspace path)."""
@@ -52,3 +60,23 @@ PARAMETERS: tuple[ParamSpec, ...] = (
     ParamSpec('imu_accel_bias', 0.05, 'standard deviation of the constant accelerometer bias drawn at start',
               'm/s^2', low=0.0, high=100.0, read_only=True),
 )
+
+
+def from_params(params: Mapping[str, Any]) -> PlatformConfig:
+    """Build the simulator's typed configuration from the node's parameter values by name (SI, angles in deg)."""
+    import numpy as np
+
+    from psr_platform_sim.kinematics import Design
+    from psr_platform_sim.simulator import PlatformConfig
+
+    p = params
+    design = Design(p['r'], p['l'], p['d'], float(np.radians(p['gamma'])),
+                    float(np.radians(p['ball_limit'])) if p['ball_limit'] > 0 else float(np.pi))
+    offset = tuple(float(v) for v in p['reel_offset'])
+    return PlatformConfig(
+        design=design, profile=p['profile'], seed=p['seed'], sea_state=p['sea_state'], boat_length=p['boat_length'],
+        profile_duration=p['profile_duration'], ramp_time=p['ramp_time'], command_rate=p['command_rate'],
+        sample_rate=p['imu_rate'], heave_limit=p['heave_limit'], rail_length=p['rail_length'],
+        max_slider_speed=p['max_slider_speed'], max_slider_accel=p['max_slider_accel'], table_steps=p['table_steps'],
+        cache_dir=Path(p['cache_dir']) if p['cache_dir'] else None,
+        reel_offset=(offset[0], offset[1], offset[2]))

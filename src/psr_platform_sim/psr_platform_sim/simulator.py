@@ -38,6 +38,7 @@ angles, both REP-103, differ by that much beyond the tracking error of the thesi
 from __future__ import annotations
 
 from dataclasses import dataclass
+from pathlib import Path
 
 import numpy as np
 from scipy.interpolate import CubicHermiteSpline
@@ -55,8 +56,8 @@ from psr_platform_sim.waves import named_profile
 from psr_platform_sim.workspace import ball_region
 from psr_platform_sim.workspace import cached_table
 from psr_platform_sim.workspace import nominal_region
+from tether_common.constants import GRAVITY
 
-GRAVITY = 9.81
 MECHANISM_TO_WORLD = np.array([[0.0, 1.0, 0.0], [-1.0, 0.0, 0.0], [0.0, 0.0, 1.0]])
 """Rz(-90 deg): mechanism-frame vectors to ``world``; also thesis body axes to FLU."""
 
@@ -108,43 +109,79 @@ class PlatformSample:
     world_angular_velocity: np.ndarray
 
 
-class PlatformSimulator:
-    """Precomputed motion of the replicator for one profile, sampled by time.
+@dataclass(frozen=True)
+class PlatformConfig:
+    """What :class:`PlatformSimulator` simulates (the platform node builds it from its parameters).
 
-    Args:
-        params: values of :data:`psr_platform_sim.platform_params.PARAMETERS` by name.
+    Attributes:
+        design: the mechanism; ``ball_limit`` of pi means no ball-joint constraint.
+        profile: motion profile name or CSV path (:func:`psr_platform_sim.waves.named_profile`, ``workspace``).
+        seed: seed of the generated wave phases.
+        sea_state: Douglas sea state of the boat profile.
+        boat_length: boat length of the boat profile, m.
+        profile_duration: length of generated profiles, s.
+        ramp_time: fade-in from the level neutral pose, s.
+        command_rate: slider command rate of the firmware, Hz.
+        sample_rate: rate of the fine time grid the state is sampled on, Hz.
+        heave_limit: half the heave range of the rails, m.
+        rail_length: rail length, m; the level neutral pose puts the sliders at mid-rail.
+        max_slider_speed: slider speed limit, m/s.
+        max_slider_accel: slider acceleration limit, m/s².
+        table_steps: lookup-table grid steps per slider axis.
+        cache_dir: lookup-table cache directory (None: the default cache).
+        reel_offset: reel mount from the platform centre in the FLU ``boat`` frame, m.
     """
 
-    def __init__(self, params: dict) -> None:
-        p = params
-        self.design = Design(p['r'], p['l'], p['d'], np.radians(p['gamma']),
-                             np.radians(p['ball_limit']) if p['ball_limit'] > 0 else np.pi)
-        table = cached_table(self.design, p['table_steps'], p['cache_dir'] or None)
-        region = ball_region(table) if p['ball_limit'] > 0 else nominal_region(table)
+    design: Design
+    profile: str
+    seed: int
+    sea_state: int
+    boat_length: float
+    profile_duration: float
+    ramp_time: float
+    command_rate: float
+    sample_rate: float
+    heave_limit: float
+    rail_length: float
+    max_slider_speed: float
+    max_slider_accel: float
+    table_steps: int
+    cache_dir: Path | None
+    reel_offset: tuple[float, float, float]
+
+
+class PlatformSimulator:
+    """Precomputed motion of the replicator for one profile, sampled by time."""
+
+    def __init__(self, config: PlatformConfig) -> None:
+        c = config
+        self.design = c.design
+        table = cached_table(self.design, c.table_steps, c.cache_dir)
+        limited = c.design.ball_limit < np.pi
+        region = ball_region(table) if limited else nominal_region(table)
         if region.area <= 0:
-            raise ValueError(f'design r={p["r"]}, l={p["l"]}, d={p["d"]} has no usable workspace')
-        self.rail_base = -p['rail_length'] / 2.0
+            raise ValueError(f'design r={c.design.r}, l={c.design.l}, d={c.design.d} has no usable workspace')
+        self.rail_base = -c.rail_length / 2.0
         generator = PathGenerator(table, region, self.rail_base)
         self.neutral_centre = generator.neutral_centre
-        if p['profile'] == 'workspace':
-            profile = workspace_profile(table, region, rate=p['command_rate'])
+        if c.profile == 'workspace':
+            profile = workspace_profile(table, region, rate=c.command_rate)
         else:
-            profile = named_profile(p['profile'], p['seed'], p['profile_duration'], p['sea_state'],
-                                    p['boat_length'], p['command_rate'])
-        profile = profile.resampled(p['command_rate']).ramped(p['ramp_time'])
+            profile = named_profile(c.profile, c.seed, c.profile_duration, c.sea_state, c.boat_length,
+                                    c.command_rate)
+        profile = profile.resampled(c.command_rate).ramped(c.ramp_time)
         self.profile_name = profile.name
-        dt = 1.0 / p['command_rate']
+        dt = 1.0 / c.command_rate
         path = generator.sliders(profile.heave, profile.roll, profile.pitch, exact=True,
-                                 heave_limit=p['heave_limit'])
-        achieved, _, self.limited_ticks = limit_motion(path.heights, dt, p['max_slider_speed'],
-                                                       p['max_slider_accel'])
+                                 heave_limit=c.heave_limit)
+        achieved, _, self.limited_ticks = limit_motion(path.heights, dt, c.max_slider_speed, c.max_slider_accel)
         self.command_t = profile.t
         self.command_dt = dt
         self.command = np.stack([path.heave, path.roll, path.pitch], axis=-1)
         self.commanded_angles = thesis_to_rep103(path.roll, path.pitch, np.zeros_like(path.roll))[:, :2]
         self.requested = np.stack([profile.heave, profile.roll, profile.pitch], axis=-1)
         self.inside = path.inside
-        self.rate = p['imu_rate']
+        self.rate = c.sample_rate
         t = np.arange(0.0, profile.t[-1] + 0.5 / self.rate, 1.0 / self.rate)
         spline = CubicHermiteSpline(profile.t, achieved, central_velocity(achieved, dt))
         self.t = t
@@ -161,7 +198,7 @@ class PlatformSimulator:
         self.angles = rep103_angles(self.rotation)
         self.angle_rates = np.gradient(np.unwrap(self.angles, axis=0), 1.0 / self.rate, axis=0)
         self.velocity = np.gradient(self.centre, 1.0 / self.rate, axis=0)
-        self.reel_offset = np.asarray(p['reel_offset'], dtype=float)
+        self.reel_offset = np.asarray(c.reel_offset, dtype=float)
         self.reel_position = self.centre + self.rotation @ self.reel_offset - self.reel_offset
         self.reel_velocity = np.gradient(self.reel_position, 1.0 / self.rate, axis=0)
         # Body angular velocity from R^T dR/dt, specific force R^T (a + g z).

@@ -15,12 +15,13 @@ from scipy.spatial.transform import Rotation
 
 from psr_platform_sim.kinematics import rotation_from_angles
 from psr_platform_sim.platform_params import PARAMETERS
+from psr_platform_sim.platform_params import from_params
 from psr_platform_sim.report import tracking_report
-from psr_platform_sim.simulator import GRAVITY
 from psr_platform_sim.simulator import PlatformSimulator
 from psr_platform_sim.simulator import thesis_to_boat
 from psr_platform_sim.simulator import thesis_to_rep103
 from psr_platform_sim.waves import boat_profile
+from tether_common.constants import GRAVITY
 
 MSG = Path(__file__).resolve().parents[2] / 'tether_msgs' / 'msg' / 'PlatformState.msg'
 TYPE = 'tether_msgs/msg/PlatformState'
@@ -36,7 +37,7 @@ def _params(cache, **changes):
     values = {spec.name: spec.default for spec in PARAMETERS}
     values.update(cache_dir=str(cache), table_steps=150, profile_duration=20.0)
     values.update(changes)
-    return values
+    return from_params(values)
 
 
 def _rep103(quaternion):

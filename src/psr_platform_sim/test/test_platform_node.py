@@ -22,6 +22,7 @@ from sensor_msgs.msg import Imu  # noqa: E402
 from tether_msgs.msg import PlatformState  # noqa: E402
 
 from psr_platform_sim.platform_params import PARAMETERS  # noqa: E402
+from psr_platform_sim.platform_params import from_params  # noqa: E402
 from psr_platform_sim.simulator import PlatformSimulator  # noqa: E402
 from tether_common.qos import SENSOR  # noqa: E402
 from tether_common.qos import STATE  # noqa: E402
@@ -87,7 +88,7 @@ def test_node_publishes_on_sim_time(tmp_path, ros_domain):
     assert all(b > a for a, b in zip(stamps, stamps[1:]))
     values = {spec.name: spec.default for spec in PARAMETERS}
     values.update(profile='hpr3', seed=3, cache_dir=str(tmp_path), table_steps=120, profile_duration=20.0)
-    sim = PlatformSimulator(values)
+    sim = PlatformSimulator(from_params(values))
     expected = sim.sample(stamp)
     assert [state.roll, state.pitch, state.yaw] == pytest.approx([expected.roll, expected.pitch, expected.yaw],
                                                                   abs=1e-12)

@@ -7,11 +7,12 @@ import pytest
 from scipy.spatial.transform import Rotation
 
 from psr_platform_sim.platform_params import PARAMETERS
-from psr_platform_sim.simulator import GRAVITY
+from psr_platform_sim.platform_params import from_params
 from psr_platform_sim.simulator import ImuModel
 from psr_platform_sim.simulator import PlatformSimulator
 from psr_platform_sim.simulator import thesis_to_rep103
 from psr_platform_sim.waves import ProfileError
+from tether_common.constants import GRAVITY
 from tether_common.parameters import spec_table
 
 
@@ -19,7 +20,7 @@ def _params(tmp_path, **changes):
     values = {spec.name: spec.default for spec in PARAMETERS}
     values.update(cache_dir=str(tmp_path), table_steps=150, profile_duration=30.0)
     values.update(changes)
-    return values
+    return from_params(values)
 
 
 def test_parameter_defaults_pass_their_own_specification():

@@ -41,7 +41,7 @@ from smart_reel.reel import ReelInputs
 from smart_reel.reel import build_core
 from smart_reel.reel_params import PARAMETERS
 from tether_common.command_line import positive
-from tether_dynamics.statics.catenary import GRAVITY
+from tether_common.constants import GRAVITY
 from tether_dynamics.statics.catenary import tension_b_point
 from tether_dynamics.statics.reference_length import reference_length
 

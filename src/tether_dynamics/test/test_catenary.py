@@ -7,9 +7,10 @@ import pytest
 from scipy.integrate import solve_ivp
 from scipy.optimize import fsolve
 
+from tether_common.constants import GRAVITY
 from tether_dynamics.statics import catenary
 
-LG = catenary.THESIS_LINEAR_DENSITY * catenary.GRAVITY
+LG = catenary.THESIS_LINEAR_DENSITY * GRAVITY
 
 
 def _random_cases(n: int = 4000, seed: int = 7) -> tuple[np.ndarray, np.ndarray, np.ndarray]:

@@ -22,6 +22,7 @@ from pathlib import Path
 import numpy as np
 
 from tether_common.command_line import Command
+from tether_common.constants import GRAVITY
 from tether_common.command_line import OneLineParser
 from tether_common.command_line import UsageError
 from tether_common.command_line import analysis
@@ -117,7 +118,7 @@ def analyze(args: argparse.Namespace) -> str:
           f'({dx.size * args.lengths / 1e6:.2f} M catenaries, ×2 with the shooting method)',
           file=sys.stderr)
     t0 = time.perf_counter()
-    lam, g = catenary.THESIS_LINEAR_DENSITY, catenary.GRAVITY
+    lam, g = catenary.THESIS_LINEAR_DENSITY, GRAVITY
     result = flying_space.sweep(dx, dy, args.lengths, linear_density=lam, gravity=g, progress=_progress('sweep'))
     t_sweep = time.perf_counter() - t0
     fits = flying_space.fit_tables(result, lam)

@@ -7,6 +7,7 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.linalg
 
+from tether_common.constants import GRAVITY
 from tether_dynamics.fem import constraints, elements_linear, elements_quadratic, kernels
 from tether_dynamics.fem.effects import Drag, KelvinVoigt, Wind
 from tether_dynamics.fem.end_bodies import FarEnd, Pinned, PointMass, PrescribedMotion, RigidBody, StartEnd
@@ -76,7 +77,7 @@ class Scene:
     far: FarEnd
     nodes: np.ndarray
     velocities: np.ndarray | None = None
-    gravity: tuple[float, float, float] = (0.0, 0.0, -9.81)
+    gravity: tuple[float, float, float] = (0.0, 0.0, -GRAVITY)
     drag: Drag | None = None
     wind: Wind | None = None
     damping: KelvinVoigt | None = None

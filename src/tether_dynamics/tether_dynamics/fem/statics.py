@@ -10,6 +10,7 @@ from __future__ import annotations
 import numpy as np
 import scipy.linalg
 
+from tether_common.constants import GRAVITY
 from tether_dynamics.fem import constraints
 from tether_dynamics.fem.errors import FemError
 from tether_dynamics.fem.model import Tether
@@ -33,7 +34,7 @@ def _initial_guess(tether: Tether, start: np.ndarray, end: np.ndarray, gdir: np.
 
 
 def hanging_shape(tether: Tether, start: np.ndarray, end: np.ndarray,
-                  gravity: tuple[float, float, float] = (0.0, 0.0, -9.81),
+                  gravity: tuple[float, float, float] = (0.0, 0.0, -GRAVITY),
                   tol: float = 1e-11, max_iter: int = 200) -> np.ndarray:
     """Node positions (n_nodes, 3) of the static equilibrium with both end nodes held.
 

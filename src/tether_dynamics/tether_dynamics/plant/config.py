@@ -6,6 +6,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from tether_common.constants import GRAVITY
 from tether_dynamics.statics.catenary import THESIS_LINEAR_DENSITY
 
 FIDELITIES = ('quasi_static', 'linear', 'quadratic')
@@ -141,7 +142,7 @@ class PlantConfig:
     air_density: float = 1.225
     damping: float = 0.0
     wind: tuple[float, float, float] = (0.0, 0.0, 0.0)
-    gravity: float = 9.81
+    gravity: float = GRAVITY
     guide_way_offset: tuple[float, float, float] = (0.0, 0.0, 0.5)
     initial_length: float = 10.0
     reshape: str = 'ale'

@@ -29,8 +29,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-GRAVITY = 9.81
-"""Gravitational acceleration (m/s²) used throughout the statics."""
+from tether_common.constants import GRAVITY
 
 THESIS_LINEAR_DENSITY = 0.042
 """Tether linear density λ (kg/m) of the thesis's flying-space analysis (Sec. 3.2.1)."""
@@ -40,15 +39,23 @@ _LN2 = math.log(2.0)
 _MAX_NEWTON = 60
 
 
+def _sinhc_series(y):
+    """``sinh(u)/u - 1`` for ``y = u²`` by its Taylor series, full relative precision for ``u < 0.5``."""
+    return y / 6.0 * (1.0 + y / 20.0 * (1.0 + y / 42.0 * (1.0 + y / 72.0 * (
+        1.0 + y / 110.0 * (1.0 + y / 156.0 * (1.0 + y / 210.0))))))
+
+
+def _log_sinhc_slope_series(u, y):
+    """``d/du ln(sinh(u)/u) = coth(u) - 1/u`` for ``y = u²`` by its Taylor series (``u < 0.5``)."""
+    return u / 3.0 * (1.0 - y / 15.0 * (1.0 - 2.0 * y / 21.0 * (1.0 - 3.0 * y / 20.0 * (1.0 - 10.0 * y / 99.0))))
+
+
 def sinhc_minus_one(u: np.ndarray) -> np.ndarray:
     """Return ``sinh(u)/u - 1`` to full relative precision for ``u ≥ 0`` (series below 0.5)."""
     small = u < _SERIES_LIMIT
     us = np.where(small, u, 0.0)
-    y = us * us
-    series = y / 6.0 * (1.0 + y / 20.0 * (1.0 + y / 42.0 * (1.0 + y / 72.0 * (
-        1.0 + y / 110.0 * (1.0 + y / 156.0 * (1.0 + y / 210.0))))))
     ub = np.where(small, 1.0, np.minimum(u, 700.0))
-    return np.where(small, series, np.sinh(ub) / ub - 1.0)
+    return np.where(small, _sinhc_series(us * us), np.sinh(ub) / ub - 1.0)
 
 
 def _newton_step(u: np.ndarray, target: np.ndarray) -> np.ndarray:
@@ -61,10 +68,8 @@ def _newton_step(u: np.ndarray, target: np.ndarray) -> np.ndarray:
     small = u < _SERIES_LIMIT
     us = np.where(small, u, 0.0)
     y = us * us
-    h_series = y / 6.0 * (1.0 + y / 20.0 * (1.0 + y / 42.0 * (1.0 + y / 72.0 * (
-        1.0 + y / 110.0 * (1.0 + y / 156.0 * (1.0 + y / 210.0))))))
-    d_series = us / 3.0 * (1.0 - y / 15.0 * (1.0 - 2.0 * y / 21.0 * (1.0 - 3.0 * y / 20.0 * (
-        1.0 - 10.0 * y / 99.0))))
+    h_series = _sinhc_series(y)
+    d_series = _log_sinhc_slope_series(us, y)
     ub = np.where(small, 1.0, u)
     e = np.exp(-2.0 * ub)
     value = np.where(small, np.log1p(h_series), ub + np.log1p(-e) - _LN2 - np.log(ub))
@@ -316,9 +321,7 @@ def solve(dr: np.ndarray | float, dz: np.ndarray | float, length: np.ndarray | f
 def sinhc_minus_one_point(u: float) -> float:
     """Scalar form of :func:`sinhc_minus_one`."""
     if u < _SERIES_LIMIT:
-        y = u * u
-        return y / 6.0 * (1.0 + y / 20.0 * (1.0 + y / 42.0 * (1.0 + y / 72.0 * (
-            1.0 + y / 110.0 * (1.0 + y / 156.0 * (1.0 + y / 210.0))))))
+        return _sinhc_series(u * u)
     return math.sinh(u) / u - 1.0
 
 
@@ -328,9 +331,7 @@ def _newton_step_point(u: float, target: float) -> float:
         return f / (1.0 / math.tanh(u) - 1.0 / u)
     f = math.log1p(sinhc_minus_one_point(u)) - target
     if u < _SERIES_LIMIT:
-        y = u * u
-        return f / (u / 3.0 * (1.0 - y / 15.0 * (1.0 - 2.0 * y / 21.0 * (
-            1.0 - 3.0 * y / 20.0 * (1.0 - 10.0 * y / 99.0)))))
+        return f / _log_sinhc_slope_series(u, u * u)
     return f / (1.0 / math.tanh(u) - 1.0 / u)
 
 

@@ -25,7 +25,9 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from tether_dynamics.statics import catenary, heave_robustness
+from tether_common.constants import GRAVITY
+from tether_common.golden_section import golden_section_minimum
+from tether_dynamics.statics import catenary, heave_robustness, reference_length
 
 RISES = (0.05, 0.10, 0.20)
 """Tension rises over the slack tension that define L_rob5, L_rob10, L_rob20."""
@@ -45,7 +47,6 @@ row to all four decimals (1.0 or 1.2 do not), and Sec. 4.3 uses Eq. 4.4 up to 1.
 COMPARE_RATIO_MAX = 1.2
 """Fitted curves are compared over Δx/Δy ∈ [0, 1.2], the range the thesis claims (Sec. 3.5)."""
 
-_GOLDEN = (np.sqrt(5.0) - 1.0) / 2.0
 
 # Tables 3.1-3.3: name → (coefficients c1..cn in ascending powers of Δx/Δy, R²).
 THESIS_TABLES: dict[str, dict[str, tuple[tuple[float, ...], float]]] = {
@@ -59,7 +60,7 @@ THESIS_TABLES: dict[str, dict[str, tuple[tuple[float, ...], float]]] = {
     'length': {  # Table 3.2, L/Δy
         'L_min': ((0.9972, 0.2406, 0.5849, -0.1497), 1.0),
         'L_slack': ((0.9976, 0.2094, 0.3752, -0.0862), 1.0),
-        'L_rob5': ((0.9964, 0.1514, 0.4674, -0.1280), 1.0),
+        'L_rob5': (reference_length.POLY3, 1.0),  # Eq. 4.4 repeats this row
         'L_rob10': ((0.9974, 0.1283, 0.4888, -0.1335), 1.0),
         'L_rob20': ((0.9982, 0.1127, 0.4906, -0.12831), 1.0),
     },
@@ -85,7 +86,7 @@ def grid(step: float = 0.5, extent: float = 60.0) -> tuple[np.ndarray, np.ndarra
 
 def min_tension_length(dr: np.ndarray, dz: np.ndarray, iterations: int = 90,
                        linear_density: float = catenary.THESIS_LINEAR_DENSITY,
-                       gravity: float = catenary.GRAVITY) -> np.ndarray:
+                       gravity: float = GRAVITY) -> np.ndarray:
     """Return the length minimizing the UAV tension T_B (m), by golden-section search.
 
     T_B(L) (Eq. 3.12) falls steeply from the taut chord and rises slowly beyond the
@@ -98,19 +99,7 @@ def min_tension_length(dr: np.ndarray, dz: np.ndarray, iterations: int = 90,
     def tension(length: np.ndarray) -> np.ndarray:
         return catenary.solve(dr, dz, length, linear_density, gravity).tension_b
 
-    x1 = hi - _GOLDEN * (hi - lo)
-    x2 = lo + _GOLDEN * (hi - lo)
-    f1, f2 = tension(x1), tension(x2)
-    for _ in range(iterations):
-        left = f1 < f2
-        hi = np.where(left, x2, hi)
-        lo = np.where(left, lo, x1)
-        x2n = np.where(left, x1, lo + _GOLDEN * (hi - lo))
-        x1n = np.where(left, hi - _GOLDEN * (hi - lo), x2)
-        f_new = tension(np.where(left, x1n, x2n))
-        f1, f2 = np.where(left, f_new, f2), np.where(left, f1, f_new)
-        x1, x2 = x1n, x2n
-    return 0.5 * (lo + hi)
+    return golden_section_minimum(tension, lo, hi, iterations)
 
 
 @dataclass
@@ -143,7 +132,7 @@ class SweepResult:
 
 def sweep_lengths(dx: np.ndarray, dy: np.ndarray, n_lengths: int = N_LENGTHS,
                   linear_density: float = catenary.THESIS_LINEAR_DENSITY,
-                  gravity: float = catenary.GRAVITY) -> np.ndarray:
+                  gravity: float = GRAVITY) -> np.ndarray:
     """Return the ``(pairs, n_lengths)`` lengths from the taut chord to beyond L_Tmin."""
     chord = catenary.chord_length(dx, dy)
     l_max = chord + MAX_LENGTH_FACTOR * (
@@ -193,7 +182,7 @@ def _sweep_chunk(dx: np.ndarray, dy: np.ndarray, n_lengths: int, linear_density:
 
 def sweep(dx: np.ndarray, dy: np.ndarray, n_lengths: int = N_LENGTHS,
           linear_density: float = catenary.THESIS_LINEAR_DENSITY,
-          gravity: float = catenary.GRAVITY, chunk: int = 200,
+          gravity: float = GRAVITY, chunk: int = 200,
           progress: Callable[[int, int], None] | None = None) -> SweepResult:
     """Run the thesis's brute-force sweep (Sec. 3.2) over the pairs ``(dx, dy)``.
 
@@ -262,7 +251,7 @@ def curve_data(result: SweepResult, linear_density: float) -> dict[str, dict[str
 
 
 def exact_curve_data(dx: np.ndarray, dy: np.ndarray, linear_density: float,
-                     gravity: float = catenary.GRAVITY) -> dict[str, dict[str, np.ndarray]]:
+                     gravity: float = GRAVITY) -> dict[str, dict[str, np.ndarray]]:
     """Return the data of Tables 3.1-3.3 from root-found values instead of the sweep.
 
     L_Tmin by golden-section search, L_slack in closed form after one Newton solve,
@@ -335,13 +324,6 @@ def recommended_ratio(rise: float = 0.05) -> tuple[float, float]:
     coarse = np.linspace(0.01, 2.0, 400)
     i = int(np.argmax(heave_tolerance_curve(coarse, rise)))
     lo, hi = coarse[max(i - 1, 0)], coarse[min(i + 1, coarse.size - 1)]
-    for _ in range(60):
-        x1 = hi - _GOLDEN * (hi - lo)
-        x2 = lo + _GOLDEN * (hi - lo)
-        f1, f2 = heave_tolerance_curve(np.array([x1, x2]), rise)
-        if f1 > f2:
-            hi = x2
-        else:
-            lo = x1
-    best = 0.5 * (lo + hi)
+    best = float(golden_section_minimum(lambda x: -heave_tolerance_curve(np.atleast_1d(x), rise).reshape(x.shape),
+                                        lo, hi, 60))
     return best, float(heave_tolerance_curve(np.array([best]), rise)[0])

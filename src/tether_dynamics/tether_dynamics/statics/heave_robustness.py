@@ -27,6 +27,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.optimize import brentq
 
+from tether_common.constants import GRAVITY
 from tether_dynamics.statics import catenary
 
 _BISECTIONS = 64
@@ -97,7 +98,7 @@ def slack_length(dr: np.ndarray, dz: np.ndarray) -> np.ndarray:
 
 def slack_tension(dr: np.ndarray, dz: np.ndarray,
                   linear_density: float = catenary.THESIS_LINEAR_DENSITY,
-                  gravity: float = catenary.GRAVITY) -> np.ndarray:
+                  gravity: float = GRAVITY) -> np.ndarray:
     """Return the UAV tension at the slack length (N), Eq. 3.12 with α = 0.
 
     ``T_slack = λ g a cosh(v_s) = λ g L_slack / tanh(v_s)``.
@@ -152,7 +153,7 @@ def _family(dr: np.ndarray, dz: np.ndarray, v: np.ndarray) -> tuple[np.ndarray, 
 
 def robust_length(dr: np.ndarray | float, dz: np.ndarray | float, rise: float = 0.05,
                   linear_density: float = catenary.THESIS_LINEAR_DENSITY,
-                  gravity: float = catenary.GRAVITY) -> HeaveRobustness:
+                  gravity: float = GRAVITY) -> HeaveRobustness:
     """Solve the heave-robust length L_rob by the shooting method of Sec. 3.1.2 (vectorized).
 
     Bisection on ``v/v_slack ∈ (0, 1]``: shorter tethers (smaller ``v``) tolerate more
@@ -201,7 +202,7 @@ def _too_tight(dr: np.ndarray, dz_low: np.ndarray, length: np.ndarray, t_rob: np
 
 def robust_length_point(dr: float, dz: float, rise: float = 0.05,
                         linear_density: float = catenary.THESIS_LINEAR_DENSITY,
-                        gravity: float = catenary.GRAVITY) -> tuple[float, float]:
+                        gravity: float = GRAVITY) -> tuple[float, float]:
     """Scalar L_rob and heave tolerance (m, m) for controller-rate use, Sec. 3.1.2.
 
     The same root as :func:`robust_length`, found by Brent's method on
