@@ -16,10 +16,10 @@ def test_minimum_of_shifted_parabolas_elementwise():
         return (x - centres) ** 2 + np.cosh(x - centres)
 
     found = golden_section_minimum(f, np.full(4, -5.0), np.full(4, 5.0), iterations=70)
-    np.testing.assert_allclose(found, centres, atol=1e-8)
+    np.testing.assert_allclose(found, centres, atol=1e-6)  # sqrt(machine epsilon) of a smooth minimum
     assert len(calls) == 72 and all(shape == (4,) for shape in calls)
 
 
 def test_scalar_bracket_gives_a_scalar():
     found = golden_section_minimum(lambda x: np.abs(x - 0.7), 0.0, 1.0)
-    assert found.shape == () and abs(float(found) - 0.7) < 1e-10
+    assert found.shape == () and abs(float(found) - 0.7) < 1e-10  # a kink: located to the bracket width
