@@ -25,9 +25,8 @@ import matplotlib
 matplotlib.use('Agg')
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
-from rosbags.highlevel import AnyReader  # noqa: E402
-from rosbags.highlevel import AnyReaderError  # noqa: E402
 
+from tether_bringup.bag_reader import read_bag  # noqa: E402
 from tether_dynamics.statics.catenary import solve  # noqa: E402
 from tether_dynamics.plant_markers import reference_shape  # noqa: E402
 from tether_dynamics.statics.reference_length import reference_lengths  # noqa: E402
@@ -72,25 +71,19 @@ def read_run(bag_path: Path) -> TetherRun:
     """Read the plant's topics of a bag.
 
     Raises:
-        ValueError: the bag cannot be read.
+        tether_bringup.errors.BagError: the bag cannot be read.
     """
     rows, node_t, nodes, fidelity, elements = [], [], [], '', 0
-    try:
-        with AnyReader([bag_path]) as reader:
-            connections = [c for c in reader.connections if c.topic in (STATE, NODES)]
-            for connection, _, raw in reader.messages(connections=connections):
-                m = reader.deserialize(raw, connection.msgtype)
-                if connection.topic == NODES:
-                    node_t.append(_seconds(m.header.stamp))
-                    nodes.append(np.array([(p.x, p.y, p.z) for p in m.positions]).reshape(-1, 3))
-                    continue
-                fidelity, elements = m.fidelity, m.element_count
-                rows.append((_seconds(m.header.stamp), m.reel_end.x, m.reel_end.y, m.reel_end.z,
-                             m.uav_end.x, m.uav_end.y, m.uav_end.z, m.deployed_length, m.tension_reel,
-                             m.tension_uav, m.departure_angle, m.arrival_angle, m.clearance_deck,
-                             m.clearance_sea, float(m.fouling)))
-    except AnyReaderError as error:
-        raise ValueError(f'{bag_path}: cannot read the bag: {error}') from None
+    bag = read_bag(bag_path)
+    for _, m in bag.decoded(NODES) if NODES in bag.topics else []:
+        node_t.append(_seconds(m.header.stamp))
+        nodes.append(np.array([(p.x, p.y, p.z) for p in m.positions]).reshape(-1, 3))
+    for _, m in bag.decoded(STATE) if STATE in bag.topics else []:
+        fidelity, elements = m.fidelity, m.element_count
+        rows.append((_seconds(m.header.stamp), m.reel_end.x, m.reel_end.y, m.reel_end.z,
+                     m.uav_end.x, m.uav_end.y, m.uav_end.z, m.deployed_length, m.tension_reel,
+                     m.tension_uav, m.departure_angle, m.arrival_angle, m.clearance_deck,
+                     m.clearance_sea, float(m.fouling)))
     a = np.array(rows, dtype=float).reshape(-1, 15)
     return TetherRun(t=a[:, 0], reel_end=a[:, 1:4], uav_end=a[:, 4:7], length=a[:, 7], tension_reel=a[:, 8],
                      tension_uav=a[:, 9], departure=a[:, 10], arrival=a[:, 11], clearance_deck=a[:, 12],
