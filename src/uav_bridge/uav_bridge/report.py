@@ -19,8 +19,8 @@ import matplotlib
 matplotlib.use('Agg')
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
-from rosbags.highlevel import AnyReader  # noqa: E402
-from rosbags.highlevel import AnyReaderError  # noqa: E402
+
+from tether_bringup.bag_reader import read_bag  # noqa: E402
 
 THESIS_INDOOR = {'peak_to_peak': 1.08, 'std': 0.18, 'radius': 0.60}
 THESIS_UNTETHERED = {'peak_to_peak': 0.99, 'std': 0.18, 'radius': 0.48}
@@ -34,21 +34,17 @@ def read_flight(bag_path: Path) -> dict:
     """Poses (t, x, y, z), mission phases (t, phase, reason, station), UAV states, topic names of a bag."""
     poses, phases, states = [], [], []
     wanted = {'/uav/pose', '/mission/state', '/uav/state'}
-    try:
-        with AnyReader([Path(bag_path)]) as reader:
-            topics = {c.topic for c in reader.connections}
-            connections = [c for c in reader.connections if c.topic in wanted]
-            for connection, _, raw in reader.messages(connections=connections):
-                m = reader.deserialize(raw, connection.msgtype)
-                if connection.topic == '/uav/pose':
-                    p = m.pose.position
-                    poses.append((_stamp(m.header), p.x, p.y, p.z))
-                elif connection.topic == '/mission/state':
-                    phases.append((_stamp(m.header), m.phase, m.reason, (m.station.x, m.station.y, m.station.z)))
-                else:
-                    states.append((_stamp(m.header), m.stale, m.reconnects, m.reboots))
-    except AnyReaderError as error:
-        raise ValueError(f'{bag_path}: cannot read the bag: {error}') from None
+    bag = read_bag(Path(bag_path))
+    topics = set(bag.topics)
+    for topic in sorted(wanted & topics):
+        for _, m in bag.decoded(topic):
+            if topic == '/uav/pose':
+                p = m.pose.position
+                poses.append((_stamp(m.header), p.x, p.y, p.z))
+            elif topic == '/mission/state':
+                phases.append((_stamp(m.header), m.phase, m.reason, (m.station.x, m.station.y, m.station.z)))
+            else:
+                states.append((_stamp(m.header), m.stale, m.reconnects, m.reboots))
     return {'poses': np.array(poses, dtype=float).reshape(-1, 4), 'phases': phases, 'states': states,
             'topics': topics}
 
