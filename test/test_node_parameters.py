@@ -9,8 +9,11 @@ refused instead of silently ignored.
 
 from __future__ import annotations
 
+import importlib
+import signal
 import subprocess
 import sys
+import time
 from pathlib import Path
 
 import domain_coordinator
@@ -24,6 +27,7 @@ from rclpy.parameter_client import AsyncParameterClient
 from tether_bringup.recorder_params import PARAMETERS as RECORDER_PARAMETERS
 
 NODES = Path(__file__).resolve().parent / 'nodes'
+SOURCES = Path(__file__).resolve().parent.parent / 'src'
 
 
 def _program(package: str, executable: str) -> str:
@@ -71,6 +75,38 @@ def ros_domain(monkeypatch):
         monkeypatch.setenv('ROS_DOMAIN_ID', str(domain))
         monkeypatch.setenv('ROS_AUTOMATIC_DISCOVERY_RANGE', 'LOCALHOST')
         yield domain
+
+
+def _specified_nodes() -> list[tuple[str, str]]:
+    """(package, executable) of every node with a ``<package>/<executable>_params.py``."""
+    return sorted((path.parent.name, path.stem.removesuffix('_params'))
+                  for path in SOURCES.glob('*/*/*_params.py') if path.parent.name == path.parent.parent.name)
+
+
+def _bad_values(specs) -> list[tuple[str, object]]:
+    """One out-of-range number and one unknown choice (if the node has them)."""
+    bad = []
+    number = next((s for s in specs if s.kind in (int, float) and s.high is not None), None)
+    if number is not None:
+        bad.append((number.name, number.kind(number.high * 2 + 1)))
+    choice = next((s for s in specs if s.kind is str and s.choices), None)
+    if choice is not None:
+        bad.append((choice.name, 'no_such_choice'))
+    return bad
+
+
+@pytest.mark.parametrize('package, executable', _specified_nodes())
+def test_every_specified_node_refuses_bad_values_in_one_line(ros_domain, tmp_path, package, executable):
+    """Every node built on the shared declaration, present and future, answers the same way."""
+    specs = importlib.import_module(f'{package}.{executable}_params').PARAMETERS
+    bad = _bad_values(specs)
+    assert bad, f'{package}/{executable} has no ranged number or choice to try'
+    for name, value in bad:
+        reason = next(s for s in specs if s.name == name).check(value)
+        result = subprocess.run(_command(_program(package, executable), '-p', f'{name}:={value}'),
+                                capture_output=True, text=True, timeout=120, cwd=tmp_path)
+        assert result.returncode == 2, result.stderr
+        assert result.stderr.strip().splitlines() == [f'{executable}: error: parameter {name}: {reason}']
 
 
 def _command(program: str, *arguments: str) -> list[str]:
@@ -150,3 +186,18 @@ def test_recorder_parameters_read_once_are_read_only(ros_domain, tmp_path):
     finally:
         if process.poll() is None:
             _stop(process)
+
+
+def test_sigterm_while_the_node_is_being_built_ends_it_quietly(ros_domain, tmp_path):
+    """rclpy shuts the context down on SIGTERM; the node's next rcl call must not become a traceback."""
+    started = tmp_path / 'started'
+    process = subprocess.Popen([sys.executable, str(NODES / 'slow_start_double.py'), '--ros-args',
+                                '-p', f'started_file:={started}'], stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                               text=True)
+    while not started.exists():
+        assert process.poll() is None, process.communicate()[1]
+        time.sleep(0.01)
+    process.send_signal(signal.SIGTERM)
+    _, err = process.communicate(timeout=120)
+    assert process.returncode == 0, err
+    assert 'Traceback' not in err

@@ -1,6 +1,7 @@
 """The one ``main`` every tethersim node uses: init, spin, clean exit.
 
-Ctrl-C, SIGTERM and an external shutdown end the node normally (exit status 0). A
+Ctrl-C, SIGTERM and an external shutdown end the node normally (exit status 0), also
+while the node is still being built. A
 :class:`ConfigurationError` raised while the node is built (a bad parameter, a missing
 file), or rclpy's own refusal of a parameter value (a parameter declared without a
 specification, such as ``use_sim_time``), is printed as one line
@@ -51,6 +52,11 @@ def run_node(factory: Callable[[], Node], args: list[str] | None = None,
     except (ConfigurationError, ParameterException) as error:
         print(f'{program}: error: {error}', file=sys.stderr, flush=True)
         status = 2
+    except Exception:
+        if rclpy.ok():
+            raise
+        # SIGTERM shut the context down while the node was being built: the rcl call that
+        # failed on the dead context is the normal end, not an error
     finally:
         if node is not None:
             node.destroy_node()
