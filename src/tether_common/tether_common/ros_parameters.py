@@ -13,6 +13,8 @@ and exits with status 2). An integer given for a floating-point parameter
 
 from __future__ import annotations
 
+from collections.abc import Callable
+
 from rcl_interfaces.msg import FloatingPointRange
 from rcl_interfaces.msg import IntegerRange
 from rcl_interfaces.msg import ParameterDescriptor
@@ -25,15 +27,24 @@ from tether_common.parameters import ParamSpec
 from tether_common.parameters import spec_table
 
 
-def declare_parameters(node: Node, specs: tuple[ParamSpec, ...]) -> dict[str, object]:
+def declare_parameters(node: Node, specs: tuple[ParamSpec, ...],
+                       on_change: Callable[[str, object], None] | None = None) -> dict[str, object]:
     """Declare every parameter of ``specs`` on ``node`` and return their checked values.
 
     Each parameter is first declared dynamically typed, so that rclpy takes any value
     given at start; the value is checked against its specification, converted to the
     parameter's type, and only then is the final descriptor (static type, range,
     read-only) applied.
+
+    A writable parameter (``read_only=False``) must take effect: ``on_change(name,
+    value)`` is called with each accepted new value, and declaring a writable parameter
+    without it is refused.
     """
     table = spec_table(specs)
+    writable = [spec.name for spec in specs if not spec.read_only]
+    if writable and on_change is None:
+        raise ValueError(f'{node.get_name()}: writable parameter(s) {", ".join(writable)} need an on_change '
+                         'that applies them; declare them read_only otherwise')
     values = {}
     for spec in specs:
         node.declare_parameter(spec.name, None if spec.default == [] else spec.default,
@@ -59,6 +70,13 @@ def declare_parameters(node: Node, specs: tuple[ParamSpec, ...]) -> dict[str, ob
         return SetParametersResult(successful=True)
 
     node.add_on_set_parameters_callback(on_set)
+    if writable:
+        def on_accepted(parameters):
+            for parameter in parameters:
+                if parameter.name in writable:
+                    on_change(parameter.name, table[parameter.name].coerce(parameter.value))
+
+        node.add_post_set_parameters_callback(on_accepted)
     return values
 
 
