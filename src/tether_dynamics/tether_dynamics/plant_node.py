@@ -151,7 +151,8 @@ class PlantNode(Node):
         self.nodes_every = _divisor(p, 'nodes_rate')
         self.markers_every = _divisor(p, 'markers_rate')
         self.offset = np.asarray(p['guide_way_offset'], dtype=float)
-        self.plant = self._build(p['initial_length'] or ReelConfig().min_length)
+        self.plant = self._build(p['initial_length']) if p['initial_length'] > 0.0 else None
+        self._check_config()
         self.started = False
         self.steps = 0
         self.scripted = ScriptedReel(p['reference_gain']) if p['reel_input'] == 'reference' else None
@@ -228,9 +229,16 @@ class PlantNode(Node):
         except PlantConfigError as error:
             raise ConfigurationError(str(error)) from None
 
+    def _check_config(self) -> None:
+        """Refuse a configuration the plant refuses before the first step (any length: the length is checked then)."""
+        try:
+            plant_config(self.params, ReelConfig().min_length)
+        except PlantConfigError as error:
+            raise ConfigurationError(str(error)) from None
+
     def _start(self, inputs: PlantInputs) -> None:
         """At the first step, without an initial_length, deploy the reference length of the first relative position."""
-        if self.params['initial_length'] == 0.0:
+        if self.plant is None:
             guide, _ = self._guide_way(inputs)
             d = inputs.uav_position - guide
             self.plant = self._build(reference_length(float(np.hypot(d[0], d[1])), float(d[2])).length)
