@@ -35,8 +35,8 @@ from tether_msgs.msg import PlatformState
 
 from psr_platform_sim.platform_params import PARAMETERS
 from psr_platform_sim.platform_params import from_params
-from psr_platform_sim.simulator import ImuModel
 from psr_platform_sim.simulator import PlatformSimulator
+from psr_platform_sim.simulator import platform_imu
 from psr_platform_sim.waves import ProfileError
 from tether_common.node_main import ConfigurationError
 from tether_common.node_main import run_node
@@ -56,8 +56,8 @@ class PlatformNode(Node):
             self.sim = PlatformSimulator(from_params(params))
         except (ProfileError, ValueError) as error:
             raise ConfigurationError(str(error)) from None
-        self.imu_model = ImuModel(params['seed'], params['imu_gyro_noise'], params['imu_accel_noise'],
-                                  params['imu_gyro_bias'], params['imu_accel_bias'])
+        self.imu_model = platform_imu(params['seed'], params['imu_gyro_noise'], params['imu_accel_noise'],
+                                      params['imu_gyro_bias'], params['imu_accel_bias'], params['imu_rate'])
         self.gyro_var = params['imu_gyro_noise'] ** 2
         self.accel_var = params['imu_accel_noise'] ** 2
         self.state_pub = self.create_publisher(PlatformState, '/platform/state', STATE)
@@ -110,7 +110,7 @@ class PlatformNode(Node):
     def imu_callback(self, tick: Time) -> None:
         """Publish /platform/imu: orientation (truth), noisy angular velocity and specific force."""
         s = self.sim.sample(tick.nanoseconds * 1e-9)
-        gyro, accel = self.imu_model.measure(s)
+        gyro, accel = self.imu_model.measure(s.angular_velocity, s.specific_force)
         msg = Imu()
         msg.header.stamp = tick.to_msg()
         msg.header.frame_id = 'boat'

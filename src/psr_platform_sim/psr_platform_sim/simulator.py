@@ -6,7 +6,8 @@ workspace; the sliders follow it with bounded speed and acceleration, smoothly b
 commands (cubic Hermite through the commanded positions and their fourth-order central
 difference velocities). The achieved pose comes from the exact forward kinematics
 (Eq. 2.1-2.9) on a fine time grid; an IMU at the platform centre sees its angular
-velocity and specific force plus seeded white noise and constant bias.
+velocity and specific force; its errors come from the shared IMU model
+(:class:`relpos_estimator.imu.ImuModel`, seeded white noise and constant bias here).
 
 Frames (REP-103, REP-105 names): the thesis's mechanism frame has rail 1 - the
 platform's bow, corner 1 - on +y and the body axes x' (starboard), y' (bow, Eq. 2.5),
@@ -56,6 +57,8 @@ from psr_platform_sim.waves import named_profile
 from psr_platform_sim.workspace import ball_region
 from psr_platform_sim.workspace import cached_table
 from psr_platform_sim.workspace import nominal_region
+from relpos_estimator.imu import ImuModel
+from relpos_estimator.imu import ImuSpec
 from tether_common.constants import GRAVITY
 
 MECHANISM_TO_WORLD = np.array([[0.0, 1.0, 0.0], [-1.0, 0.0, 0.0], [0.0, 0.0, 1.0]])
@@ -250,17 +253,8 @@ class PlatformSimulator:
         return {'heave': float(rms[0]), 'roll': float(rms[1]), 'pitch': float(rms[2])}
 
 
-class ImuModel:
-    """IMU at the platform centre: truth plus seeded white noise and a constant bias per axis."""
-
-    def __init__(self, seed: int, gyro_noise: float, accel_noise: float, gyro_bias: float, accel_bias: float) -> None:
-        self.rng = np.random.default_rng([seed, 7])
-        self.gyro_noise, self.accel_noise = gyro_noise, accel_noise
-        self.gyro_bias = self.rng.normal(0.0, gyro_bias, 3)
-        self.accel_bias = self.rng.normal(0.0, accel_bias, 3)
-
-    def measure(self, sample: PlatformSample) -> tuple[np.ndarray, np.ndarray]:
-        """Measured angular velocity (rad/s) and specific force (m/s^2) in the body frame."""
-        gyro = sample.angular_velocity + self.gyro_bias + self.rng.normal(0.0, self.gyro_noise, 3)
-        accel = sample.specific_force + self.accel_bias + self.rng.normal(0.0, self.accel_noise, 3)
-        return gyro, accel
+def platform_imu(seed: int, gyro_noise: float, accel_noise: float, gyro_bias: float, accel_bias: float,
+                 rate: float = 100.0) -> ImuModel:
+    """The IMU at the platform centre: seeded white noise (std per sample) and a constant bias per axis."""
+    spec = ImuSpec(gyro_noise=gyro_noise, accel_noise=accel_noise, gyro_bias=gyro_bias, accel_bias=accel_bias)
+    return ImuModel(spec, np.random.default_rng([seed, 7]), 1.0 / rate)

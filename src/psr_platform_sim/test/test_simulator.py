@@ -8,7 +8,7 @@ from scipy.spatial.transform import Rotation
 
 from psr_platform_sim.platform_params import PARAMETERS
 from psr_platform_sim.platform_params import from_params
-from psr_platform_sim.simulator import ImuModel
+from psr_platform_sim.simulator import platform_imu
 from psr_platform_sim.simulator import PlatformSimulator
 from psr_platform_sim.simulator import thesis_to_rep103
 from psr_platform_sim.waves import ProfileError
@@ -37,8 +37,8 @@ def test_still_profile_sits_level_at_mid_rail(tmp_path):
     np.testing.assert_allclose(s.angular_velocity, 0.0, atol=1e-9)
     np.testing.assert_allclose(s.quaternion, [0.0, 0.0, 0.0, 1.0], atol=1e-9)
     assert s.in_workspace
-    imu = ImuModel(3, 0.01, 0.1, 0.002, 0.05)
-    gyro, accel = (np.array(a) for a in zip(*(imu.measure(s) for _ in range(4000))))
+    imu = platform_imu(3, 0.01, 0.1, 0.002, 0.05)
+    gyro, accel = (np.array(a) for a in zip(*(imu.measure(s.angular_velocity, s.specific_force) for _ in range(4000))))
     np.testing.assert_allclose(accel.std(axis=0), 0.1, rtol=0.06)
     np.testing.assert_allclose(gyro.std(axis=0), 0.01, rtol=0.06)
     np.testing.assert_allclose(accel.mean(axis=0), [0.0, 0.0, GRAVITY] + imu.accel_bias, atol=0.006)
@@ -80,9 +80,9 @@ def test_missing_profile_file_raises_profile_error(tmp_path):
 
 
 def test_imu_noise_and_bias_are_seeded():
-    a = ImuModel(5, 0.01, 0.1, 0.002, 0.05)
-    b = ImuModel(5, 0.01, 0.1, 0.002, 0.05)
-    c = ImuModel(6, 0.01, 0.1, 0.002, 0.05)
+    a = platform_imu(5, 0.01, 0.1, 0.002, 0.05)
+    b = platform_imu(5, 0.01, 0.1, 0.002, 0.05)
+    c = platform_imu(6, 0.01, 0.1, 0.002, 0.05)
     np.testing.assert_array_equal(a.accel_bias, b.accel_bias)
     assert np.all(a.accel_bias != c.accel_bias)
     assert np.abs(a.gyro_bias).max() < 0.01
