@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from dataclasses import field
 
 import numpy as np
 from scipy.spatial.transform import Rotation
@@ -44,6 +45,8 @@ class Truth:
     relative_acceleration: np.ndarray
     slider_velocity: np.ndarray
     """m/s, the three sliders (for the stepper vibration)."""
+    relative_velocity: np.ndarray = field(default_factory=lambda: np.zeros(3))
+    """m/s, only for republishing the truth; the sensors do not use it."""
 
 
 @dataclass

@@ -1,0 +1,252 @@
+"""ROS 2 node ``sensors``: the reel computer's RTK dGPS and the two IMUs, simulated from ground truth.
+
+A thin wrapper around :class:`relpos_estimator.sensors.SensorSuite`. Inputs (truth):
+
+* ``/platform/reel_pose`` (geometry_msgs/PoseStamped, ``world``): the reel's position and
+  attitude; its acceleration and angular velocity at tick t come from the poses at t - dt,
+  t, t + dt (central differences), so tick t is simulated one tick after its pose arrived;
+* ``/platform/state`` (tether_msgs/PlatformState): the slider speeds driving the stepper
+  vibration;
+* ``/truth/relative`` (tether_msgs/RelativePosition) with ``truth: plant``; with
+  ``truth: surrogate`` the UAV attachment is fixed in ``world`` at ``surrogate_position``
+  (the UAV surrogate of Sec. 5.1) and the relative position is that minus the reel's.
+
+Outputs, all stamped by the truth's stamps, never by arrival:
+
+* ``/imu/reel`` (sensor_msgs/Imu, frame ``boat``) and ``/imu/uav`` (frame ``uav``), sensor-data QoS;
+* ``/dgps/fix`` (tether_msgs/DgpsFix, stamp = the modelled arrival time), sensor-data QoS;
+* ``/sensors/faults`` (tether_msgs/SensorFault, reliable): each injected fault with its truth;
+* ``/truth/relative`` (reliable) with ``truth: surrogate`` only: the truth the sensors used
+  so that a run's bag holds what the estimate is scored against.
+
+Ticks are processed in order once all their inputs are in, however late they arrive; a
+tick whose input can no longer come (its stream has delivered later stamps: each
+publisher keeps its order) is skipped - its IMU samples are missing, which the estimator
+handles - and logged.
+"""
+
+from __future__ import annotations
+
+import sys
+
+import numpy as np
+from builtin_interfaces.msg import Time as TimeMsg
+from geometry_msgs.msg import PoseStamped
+from rclpy.node import Node
+from rclpy.qos import HistoryPolicy
+from rclpy.qos import QoSProfile
+from rclpy.qos import ReliabilityPolicy
+from rclpy.time import Time
+from scipy.spatial.transform import Rotation
+from sensor_msgs.msg import Imu
+from tether_msgs.msg import DgpsFix
+from tether_msgs.msg import PlatformState
+from tether_msgs.msg import RelativePosition
+from tether_msgs.msg import SensorFault
+
+from relpos_estimator.dgps import FAULT_KINDS
+from relpos_estimator.imu import ImuSpec
+from relpos_estimator.messages import split_ns
+from relpos_estimator.messages import stamp_ns
+from relpos_estimator.sensors import ImuSample
+from relpos_estimator.sensors import SensorSuite
+from relpos_estimator.sensors import SuiteOutput
+from relpos_estimator.sensors import Truth
+from relpos_estimator.sensors_params import PARAMETERS
+from relpos_estimator.sensors_params import configs
+from tether_common.node_main import ConfigurationError
+from tether_common.node_main import run_node
+from tether_common.qos import SENSOR
+from tether_common.qos import STATE
+from tether_common.ros_parameters import declare_parameters
+from tether_common.sim_timer import SimTimer
+
+
+INPUT_DEPTH = 1000
+"""Subscription history: a node that falls behind for a few seconds of sim time loses nothing."""
+STATE_INPUT = QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=INPUT_DEPTH, reliability=ReliabilityPolicy.RELIABLE)
+SENSOR_INPUT = QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=INPUT_DEPTH,
+                          reliability=ReliabilityPolicy.BEST_EFFORT)
+
+
+def to_stamp(seconds: float) -> TimeMsg:
+    """A builtin_interfaces/Time from seconds (rounded to the nanosecond)."""
+    sec, nanosec = split_ns(seconds)
+    return TimeMsg(sec=sec, nanosec=nanosec)
+
+
+class SensorsNode(Node):
+    """Publishes simulated IMU, dGPS and fault messages from the platform's and the plant's truth."""
+
+    def __init__(self) -> None:
+        super().__init__('sensors')
+        try:
+            self.params = declare_parameters(self, PARAMETERS)
+            suite_config, dgps_config = configs(self.params)
+        except ValueError as error:
+            raise ConfigurationError(str(error)) from None
+        self.suite = SensorSuite(suite_config, dgps_config, self.params['seed'])
+        self.period_ns = round(1e9 / self.params['rate'])
+        self.dt = self.period_ns * 1e-9
+        self.poses: dict[int, tuple[np.ndarray, np.ndarray]] = {}
+        self.sliders: dict[int, np.ndarray] = {}
+        self.relative: dict[int, tuple[np.ndarray, np.ndarray]] = {}
+        self.next_ns: int | None = None
+        self.skipped = 0
+        self.create_subscription(PoseStamped, '/platform/reel_pose', self.on_pose, STATE_INPUT)
+        self.create_subscription(PlatformState, '/platform/state', self.on_state, STATE_INPUT)
+        if self.params['truth'] == 'plant':
+            self.create_subscription(RelativePosition, '/truth/relative', self.on_relative, STATE_INPUT)
+            self.truth_pub = None
+        else:
+            self.truth_pub = self.create_publisher(RelativePosition, '/truth/relative', STATE)
+        self.reel_pub = self.create_publisher(Imu, '/imu/reel', SENSOR)
+        self.uav_pub = self.create_publisher(Imu, '/imu/uav', SENSOR)
+        self.fix_pub = self.create_publisher(DgpsFix, '/dgps/fix', SENSOR)
+        self.fault_pub = self.create_publisher(SensorFault, '/sensors/faults', STATE)
+        self.timer = SimTimer(self, self.dt, self.on_tick)
+
+    def on_pose(self, msg: PoseStamped) -> None:
+        """Keep the reel pose by stamp."""
+        p, q = msg.pose.position, msg.pose.orientation
+        self.poses[stamp_ns(msg.header.stamp)] = (np.array([p.x, p.y, p.z]), np.array([q.x, q.y, q.z, q.w]))
+
+    def on_state(self, msg: PlatformState) -> None:
+        """Keep the slider speeds by stamp."""
+        self.sliders[stamp_ns(msg.header.stamp)] = np.array(msg.slider_velocity, dtype=float)
+
+    def on_relative(self, msg: RelativePosition) -> None:
+        """Keep the true relative position and acceleration by stamp."""
+        p, a = msg.position, msg.acceleration
+        self.relative[stamp_ns(msg.header.stamp)] = (np.array([p.x, p.y, p.z]), np.array([a.x, a.y, a.z]))
+
+    def on_tick(self, tick: Time) -> None:
+        """Simulate, in order, every tick whose inputs are in; skip a tick whose inputs can no longer come."""
+        if self.next_ns is None:
+            if not self.poses:
+                return
+            self.next_ns = min(self.poses) + self.period_ns
+        while self.next_ns + self.period_ns <= tick.nanoseconds:
+            t_ns = self.next_ns
+            truth = self.truth(t_ns)
+            if truth is None:
+                if not self.passed(t_ns):
+                    return
+                self.skipped += 1
+                self.get_logger().warning(f'tick {t_ns * 1e-9:.2f} s skipped: truth inputs lost: '
+                                          f'{", ".join(self.missing(t_ns))} ({self.skipped} so far)')
+            else:
+                self.publish_truth(t_ns, truth)
+                self.publish(self.suite.step(t_ns * 1e-9, truth))
+            self.next_ns += self.period_ns
+            self.forget(t_ns - 2 * self.period_ns)
+
+    def passed(self, t_ns: int) -> bool:
+        """True when every input stream has delivered a later stamp than tick ``t_ns`` needs (publishers keep order)."""
+        streams = [(self.poses, t_ns + self.period_ns), (self.sliders, t_ns)]
+        if self.params['truth'] == 'plant':
+            streams.append((self.relative, t_ns))
+        return all(buffer and max(buffer) > needed for buffer, needed in streams)
+
+    def truth(self, t_ns: int) -> Truth | None:
+        """Ground truth at ``t_ns`` from the buffered inputs, or None if one is missing."""
+        d = self.period_ns
+        poses = [self.poses.get(t_ns + k * d) for k in (-1, 0, 1)]
+        slider = self.sliders.get(t_ns)
+        if any(p is None for p in poses) or slider is None:
+            return None
+        positions = [p for p, _ in poses]
+        rotations = Rotation.from_quat([q for _, q in poses])
+        acceleration = (positions[2] - 2.0 * positions[1] + positions[0]) / self.dt**2
+        angular_velocity = (rotations[0].inv() * rotations[2]).as_rotvec() / (2.0 * self.dt)
+        if self.params['truth'] == 'plant':
+            relative = self.relative.get(t_ns)
+            if relative is None:
+                return None
+            rel_position, rel_acceleration = relative
+            rel_velocity = np.zeros(3)
+        else:
+            rel_position = np.asarray(self.params['surrogate_position']) - positions[1]
+            rel_velocity = -(positions[2] - positions[0]) / (2.0 * self.dt)
+            rel_acceleration = -acceleration
+        return Truth(rotations[1].as_matrix(), angular_velocity, acceleration, rel_position, rel_acceleration,
+                     slider, rel_velocity)
+
+    def missing(self, t_ns: int) -> list[str]:
+        """Names of the inputs tick ``t_ns`` still lacks."""
+        d = self.period_ns
+        names = [f'/platform/reel_pose at {(t_ns + k * d) * 1e-9:.2f} s' for k in (-1, 0, 1)
+                 if t_ns + k * d not in self.poses]
+        names += ['/platform/state'] if t_ns not in self.sliders else []
+        names += ['/truth/relative'] if self.params['truth'] == 'plant' and t_ns not in self.relative else []
+        return names
+
+    def forget(self, before_ns: int) -> None:
+        """Drop buffered inputs older than ``before_ns``."""
+        for buffer in (self.poses, self.sliders, self.relative):
+            for key in [key for key in buffer if key < before_ns]:
+                del buffer[key]
+
+    def publish_truth(self, t_ns: int, truth: Truth) -> None:
+        """With ``truth: surrogate``, publish the relative position the sensors used on /truth/relative."""
+        if self.truth_pub is None:
+            return
+        msg = RelativePosition()
+        msg.header.stamp = to_stamp(t_ns * 1e-9)
+        msg.header.frame_id = 'world'
+        msg.position.x, msg.position.y, msg.position.z = (float(v) for v in truth.relative_position)
+        msg.velocity.x, msg.velocity.y, msg.velocity.z = (float(v) for v in truth.relative_velocity)
+        msg.acceleration.x, msg.acceleration.y, msg.acceleration.z = (float(v) for v in truth.relative_acceleration)
+        self.truth_pub.publish(msg)
+
+    def publish(self, out: SuiteOutput) -> None:
+        """Publish one tick's IMU samples, arrived fixes and faults."""
+        self.reel_pub.publish(imu_message(out.reel, 'boat', self.suite.reel_imu.spec))
+        self.uav_pub.publish(imu_message(out.uav, 'uav', self.suite.uav_imu.spec))
+        for fix in out.fixes:
+            msg = DgpsFix()
+            msg.header.stamp = to_stamp(fix.arrival)
+            msg.header.frame_id = 'world'
+            msg.fix_time = to_stamp(fix.fix_time)
+            msg.relative_position.x, msg.relative_position.y, msg.relative_position.z = (
+                float(v) for v in fix.position)
+            msg.position_std.x, msg.position_std.y, msg.position_std.z = (float(v) for v in fix.std)
+            msg.status = fix.status
+            msg.sequence = fix.sequence
+            self.fix_pub.publish(msg)
+        for sensor, fault in out.faults:
+            msg = SensorFault()
+            msg.header.stamp = to_stamp(fault.time)
+            msg.header.frame_id = 'world'
+            msg.sensor = sensor
+            msg.kind = FAULT_KINDS.index(fault.kind)
+            msg.kind_name = fault.kind
+            msg.fix_time = to_stamp(fault.fix_time)
+            msg.sequence = fault.sequence
+            msg.truth.x, msg.truth.y, msg.truth.z = (float(v) for v in fault.truth)
+            msg.reported.x, msg.reported.y, msg.reported.z = (float(v) for v in fault.reported)
+            self.fault_pub.publish(msg)
+
+
+def imu_message(sample: ImuSample, frame: str, spec: ImuSpec) -> Imu:
+    """sensor_msgs/Imu of a sample, with the class's white-noise variances on the covariance diagonals."""
+    msg = Imu()
+    msg.header.stamp = to_stamp(sample.t)
+    msg.header.frame_id = frame
+    q = msg.orientation
+    q.x, q.y, q.z, q.w = (float(v) for v in sample.quaternion)
+    msg.angular_velocity.x, msg.angular_velocity.y, msg.angular_velocity.z = (float(v) for v in sample.gyro)
+    a = msg.linear_acceleration
+    a.x, a.y, a.z = (float(v) for v in sample.accel)
+    msg.angular_velocity_covariance = list(np.diag(np.full(3, spec.gyro_noise**2)).ravel())
+    msg.linear_acceleration_covariance = list(np.diag(np.full(3, spec.accel_noise**2)).ravel())
+    return msg
+
+
+def main(args=None):
+    """Run the sensors node."""
+    sys.exit(run_node(SensorsNode, args))
+
+
+if __name__ == '__main__':
+    main()
