@@ -22,5 +22,8 @@ setup(
             'sensors = relpos_estimator.sensors_node:main',
             'estimator = relpos_estimator.estimator_node:main',
         ],
+        'tethersim.commands': [
+            'estimator = relpos_estimator.cli:COMMAND',
+        ],
     },
 )

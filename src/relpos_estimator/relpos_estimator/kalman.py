@@ -91,6 +91,9 @@ class RelativeAltitudeFilter:
         self.kf.H = H_IMU
         self.kf.R = covariances.R_imu
         self.kf.P = np.diag(np.asarray(initial_variance, dtype=float))
+        r_imu = covariances.R_imu
+        self._imu_rows = {rows: (H_IMU[list(rows)], r_imu[np.ix_(rows, rows)]) for rows in ((0, 1), (0,), (1,))}
+        self._r_dgps = np.array([[covariances.sigma_dgps]])
 
     @property
     def x(self) -> np.ndarray:
@@ -113,11 +116,11 @@ class RelativeAltitudeFilter:
 
     def update_imu(self, y1: float | None, y2: float | None) -> None:
         """Fuse the accelerometer channels that are present (None: missing or rejected sample)."""
-        rows = [i for i, y in enumerate((y1, y2)) if y is not None]
+        rows = tuple(i for i, y in enumerate((y1, y2)) if y is not None)
         if not rows:
             return
-        z = np.array([[y] for y in (y1, y2) if y is not None])
-        self.kf.update(z, R=self.covariances.R_imu[np.ix_(rows, rows)], H=H_IMU[rows])
+        H, R = self._imu_rows[rows]  # noqa: N806
+        self.kf.update(np.array([[y] for y in (y1, y2) if y is not None]), R=R, H=H)
 
     def innovation(self, dz: float) -> tuple[float, float]:
         """Innovation (m) and its variance S = H P H^T + R (m^2) of a dGPS altitude against the current state."""
@@ -125,4 +128,4 @@ class RelativeAltitudeFilter:
 
     def update_dgps(self, dz: float) -> None:
         """Fuse one dGPS relative altitude (Eq. 4.8, first row)."""
-        self.kf.update(np.array([[dz]]), R=np.array([[self.covariances.sigma_dgps]]), H=H_DGPS)
+        self.kf.update(np.array([[dz]]), R=self._r_dgps, H=H_DGPS)

@@ -1,0 +1,186 @@
+"""``tethersim estimator``: Twiddle tuning and replay evaluation of the relative-altitude estimator.
+
+Subcommands:
+    evaluate   run the estimator over recorded sensor topics; Table 6.1 figures and per-fault counts
+    tune       Algorithm 1 (Sec. 5.2) on recordings; writes the tuned covariances as a parameter file
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+import time
+from pathlib import Path
+
+import matplotlib
+
+matplotlib.use('Agg')
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+import yaml  # noqa: E402
+
+from relpos_estimator.estimator import Estimator  # noqa: E402
+from relpos_estimator.estimator_params import PARAMETERS  # noqa: E402
+from relpos_estimator.estimator_params import configs  # noqa: E402
+from relpos_estimator.kalman import Covariances  # noqa: E402
+from relpos_estimator.recorded import read_recording  # noqa: E402
+from relpos_estimator.recorded import rmse  # noqa: E402
+from relpos_estimator.recorded import score  # noqa: E402
+from relpos_estimator.report import THESIS_TABLE_6_1  # noqa: E402
+from relpos_estimator.twiddle import twiddle  # noqa: E402
+from tether_common.command_line import Command  # noqa: E402
+from tether_common.command_line import OneLineParser  # noqa: E402
+from tether_common.command_line import UsageError  # noqa: E402
+from tether_common.command_line import analysis  # noqa: E402
+from tether_common.command_line import dispatch  # noqa: E402
+from tether_common.command_line import positive  # noqa: E402
+from tether_common.parameters import spec_table  # noqa: E402
+
+PROG = 'tethersim estimator'
+
+
+def load_parameters(path: Path | None) -> dict:
+    """Estimator parameters: defaults, overridden by a ROS 2 parameter file (``/**`` or ``estimator`` section)."""
+    values = {spec.name: spec.default for spec in PARAMETERS}
+    if path is None:
+        return values
+    try:
+        document = yaml.safe_load(path.read_text(encoding='utf-8')) or {}
+    except (OSError, yaml.YAMLError) as error:
+        raise UsageError(f'{path}: cannot read the parameter file: {error}') from None
+    section = next((document[k] for k in ('/**', 'estimator', '/estimator') if k in document), None)
+    if not isinstance(section, dict) or not isinstance(section.get('ros__parameters'), dict):
+        raise UsageError(f'{path}: expected a ROS 2 parameter file with /** or estimator: ros__parameters:')
+    table = spec_table(PARAMETERS)
+    for name, value in section['ros__parameters'].items():
+        spec = table.get(name)
+        if spec is None:
+            raise UsageError(f'{path}: unknown estimator parameter {name!r}')
+        reason = spec.check(value)
+        if reason:
+            raise UsageError(f'{path}: {name}: {reason}')
+        values[name] = spec.coerce(value)
+    return values
+
+
+def _factory(values: dict, covariances: Covariances | None = None):
+    cov, logic = configs(values)
+    cov = covariances or cov
+    return lambda: Estimator(cov, logic, values['rate'], 1.0 / values['dgps_rate'])
+
+
+def _recordings(paths: list[str]):
+    recs = []
+    for i, path in enumerate(paths, 1):
+        print(f'[{PROG}] reading {path} ({i}/{len(paths)})', file=sys.stderr, flush=True)
+        recs.append(read_recording(Path(path)))
+    return recs
+
+
+def cmd_evaluate(args: argparse.Namespace) -> str:
+    """Score the estimator on each recording; Table 6.1 layout plus per-fault counts."""
+    values = load_parameters(args.params)
+    recs = _recordings(args.bags)
+    scores = []
+    for i, rec in enumerate(recs, 1):
+        print(f'[{PROG}] evaluating {rec.name} ({i}/{len(recs)})', file=sys.stderr, flush=True)
+        scores.append(score(rec, _factory(values), counterfactuals=not args.no_shift))
+    lines = ['Estimator vs first-order hold (FOH) against the recorded truth (thesis Table 6.1 layout)',
+             f'{"recording":24s} {"time s":>8s} {"filter mean mm":>15s} {"filter RMSE mm":>15s} '
+             f'{"FOH mean mm":>12s} {"FOH RMSE mm":>12s} {"RMSE ratio":>10s}']
+    for s in scores:
+        lines.append(f'{s.name:24s} {s.test_time:8.1f} {s.filter_mean * 1e3:15.2f} {s.filter_rmse * 1e3:15.2f} '
+                     f'{s.foh_mean * 1e3:12.2f} {s.foh_rmse * 1e3:12.2f} {s.filter_rmse / s.foh_rmse:10.2f}')
+    lines.append('thesis Table 6.1 (4 Hz de-rated MoCap, no faults):')
+    for name, (fm, fr, hm, hr) in THESIS_TABLE_6_1.items():
+        lines.append(f'{name:24s} {"":8s} {fm * 1e3:15.2f} {fr * 1e3:15.2f} {hm * 1e3:12.2f} {hr * 1e3:12.2f} '
+                     f'{fr / hr:10.2f}')
+    lines.append('')
+    lines.append('Faults per recording: injected, rejected, fused, largest estimate shift (mm; against the run '
+                 'with the faulty messages replaced by clean ones at their truth)')
+    for s in scores:
+        if not s.faults:
+            lines.append(f'{s.name}: no faults injected')
+        for kind, (n, rejected, fused, shift) in s.faults.items():
+            shift_text = 'n/a' if np.isnan(shift) else f'{shift * 1e3:.1f}'
+            lines.append(f'{s.name:24s} {kind:18s} injected {n:4d}  rejected {rejected:4d}  fused {fused:4d}  '
+                         f'largest shift {shift_text} mm')
+    fig, ax = plt.subplots(figsize=(8, 4))
+    x = np.arange(len(scores))
+    ax.bar(x - 0.2, [s.filter_rmse * 1e3 for s in scores], 0.4, label='filter')
+    ax.bar(x + 0.2, [s.foh_rmse * 1e3 for s in scores], 0.4, label='FOH')
+    ax.set_xticks(x, [s.name for s in scores], rotation=20)
+    ax.set_ylabel('RMSE (mm)')
+    ax.legend()
+    fig.tight_layout()
+    fig.savefig(args.out / 'evaluate.png', dpi=110)
+    plt.close(fig)
+    lines.append(f'plot: {args.out / "evaluate.png"}')
+    return '\n'.join(lines)
+
+
+def cmd_tune(args: argparse.Namespace) -> str:
+    """Algorithm 1 on the recordings' RMSE; writes tuned.yaml (ROS 2 parameter file for the estimator node)."""
+    values = load_parameters(args.params)
+    recs = _recordings(args.bags)
+    names = Covariances.names()
+    start = np.array([values[n] for n in names], dtype=float)
+    evaluations = [0]
+    t0 = time.monotonic()
+
+    def cost(p: np.ndarray) -> float:
+        evaluations[0] += 1
+        return rmse(recs, _factory(values, Covariances(*p)))
+
+    def progress(rounds: int, best: float, p: np.ndarray) -> None:
+        print(f'[{PROG} tune] round {rounds}: RMSE {best * 1e3:.3f} mm after {evaluations[0]} runs, '
+              f'{time.monotonic() - t0:.0f} s', file=sys.stderr, flush=True)
+
+    initial = cost(start)
+    tuned, best, rounds = twiddle(cost, start, start * args.step, tolerance=args.tolerance,
+                                  max_rounds=args.max_rounds, progress=progress)
+    document = {'/**': {'ros__parameters': {n: float(v) for n, v in zip(names, tuned)}}}
+    path = args.out / 'tuned.yaml'
+    path.write_text(yaml.safe_dump(document, sort_keys=False), encoding='utf-8')
+    lines = [f'Twiddle (Algorithm 1) on {len(recs)} recording(s): RMSE {initial * 1e3:.3f} mm -> {best * 1e3:.3f} mm '
+             f'in {rounds} rounds, {evaluations[0]} filter runs'
+             + ('' if rounds < args.max_rounds else f' (stopped at --max-rounds {args.max_rounds})'),
+             f'{"parameter":12s} {"start":>12s} {"tuned":>12s} {"thesis Sec. 6.2":>16s}']
+    thesis = Covariances()
+    for n, a, b in zip(names, start, tuned):
+        lines.append(f'{n:12s} {a:12.4g} {b:12.4g} {getattr(thesis, n):16.4g}')
+    lines.append(f'parameter file: {path} (ros2 run relpos_estimator estimator --ros-args --params-file {path}; '
+                 f'tethersim estimator evaluate --params {path} BAG...)')
+    return '\n'.join(lines)
+
+
+def _arguments(parser: argparse.ArgumentParser) -> None:
+    """Add the subcommands of ``tethersim estimator`` to its parser."""
+    commands = parser.add_subparsers(dest='command', required=True, parser_class=OneLineParser)
+    evaluate = commands.add_parser('evaluate', help='score the estimator on recorded sensor topics (Table 6.1)')
+    evaluate.add_argument('bags', nargs='+', help='bag files, bag directories or run directories')
+    evaluate.add_argument('--params', type=Path, help='estimator parameter file (e.g. written by tune)')
+    evaluate.add_argument('--no-shift', action='store_true', help='skip the counterfactual runs of the shifts')
+    evaluate.add_argument('--out', type=Path, default=Path('runs/estimator-evaluate'), help='output directory')
+    evaluate.set_defaults(func=cmd_evaluate)
+    tune = commands.add_parser('tune', help='Twiddle the covariances against the recorded truth (Algorithm 1)')
+    tune.add_argument('bags', nargs='+', help='bag files, bag directories or run directories')
+    tune.add_argument('--params', type=Path, help='start from this estimator parameter file')
+    tune.add_argument('--step', type=positive(), default=0.3, help='first step as a fraction of each value')
+    tune.add_argument('--tolerance', type=positive(), default=0.1, help='stop at this mean relative step')
+    tune.add_argument('--max-rounds', type=positive(int), default=30, help='stop after this many rounds')
+    tune.add_argument('--out', type=Path, default=Path('runs/estimator-tune'), help='output directory')
+    tune.set_defaults(func=cmd_tune)
+
+
+COMMAND = Command('relative-altitude estimator: Twiddle tuning, replay evaluation (thesis Sec. 5.2, 6.2)',
+                  _arguments, analysis(PROG, lambda args: args.func(args), user_errors=(ValueError,)))
+
+
+def main(argv: list[str] | None = None) -> int:
+    """``tethersim estimator ARGS`` without the tethersim front end."""
+    return dispatch('tethersim', {'estimator': lambda: COMMAND}, ['estimator', *(sys.argv[1:] if argv is None else argv)])
+
+
+if __name__ == '__main__':
+    sys.exit(main())
