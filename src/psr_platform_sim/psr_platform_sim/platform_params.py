@@ -36,6 +36,11 @@ PARAMETERS: tuple[ParamSpec, ...] = (
               low=0.0, high=600.0, read_only=True),
     ParamSpec('command_rate', 30.0, 'firmware slider command rate (Sec. 2.8)', 'Hz', low=1.0, high=1000.0,
               read_only=True),
+    ParamSpec('actuator_effects', [], 'prototype actuator effects: firmware (constant slider speed between '
+              'commands), microstep (slider heights on whole microsteps)', item_type=str,
+              choices=('firmware', 'microstep'), read_only=True),
+    ParamSpec('microstep', 2.5e-5, 'slider travel per microstep (0.4 mm full step, 16:1)', 'm', low=1e-7, high=0.01,
+              read_only=True),
     ParamSpec('state_rate', 100.0, 'rate of /platform/state and /platform/reel_pose', 'Hz', low=1.0, high=1000.0,
               read_only=True),
     ParamSpec('imu_rate', 100.0, 'rate of /platform/imu', 'Hz', low=1.0, high=1000.0, read_only=True),

@@ -4,7 +4,10 @@ The profile is sampled at the firmware's command rate, turned into slider height
 through the lookup table (Eq. 2.17 refined on the exact kinematics) and clipped to the
 workspace; the sliders follow it with bounded speed and acceleration, smoothly between
 commands (cubic Hermite through the commanded positions and their fourth-order central
-difference velocities). The achieved pose comes from the exact forward kinematics
+difference velocities). The ``actuator_effects`` parameter makes the prototype's
+actuators visible: ``firmware`` moves each slider at a constant speed between commands
+(the firmware's steps per clock tick, Sec. 2.2), ``microstep`` puts it on whole
+microsteps (``microstep`` m, 16:1 microstepping of Sec. 2.8). The achieved pose comes from the exact forward kinematics
 (Eq. 2.1-2.9) on a fine time grid; an IMU at the platform centre sees its angular
 velocity and specific force; its errors come from the shared IMU model
 (:class:`relpos_estimator.imu.ImuModel`, seeded white noise and constant bias here).
@@ -186,10 +189,22 @@ class PlatformSimulator:
         self.inside = path.inside
         self.rate = c.sample_rate
         t = np.arange(0.0, profile.t[-1] + 0.5 / self.rate, 1.0 / self.rate)
-        spline = CubicHermiteSpline(profile.t, achieved, central_velocity(achieved, dt))
         self.t = t
-        self.sliders = spline(t)
-        self.slider_velocity = spline(t, 1)
+        effects = set(p.get('actuator_effects', []))
+        if 'firmware' in effects:
+            # Sec. 2.2: the firmware commands a number of motor steps per clock tick, so each
+            # slider runs at a constant speed between commands.
+            segment = np.clip(np.searchsorted(profile.t, t, side='right') - 1, 0, profile.t.size - 2)
+            slope = np.diff(achieved, axis=0) / np.diff(profile.t)[:, None]
+            self.sliders = achieved[segment] + slope[segment] * (t - profile.t[segment])[:, None]
+            self.slider_velocity = slope[segment]
+        else:
+            spline = CubicHermiteSpline(profile.t, achieved, central_velocity(achieved, dt))
+            self.sliders = spline(t)
+            self.slider_velocity = spline(t, 1)
+        if 'microstep' in effects:
+            # Sec. 2.8: 16:1 microstepping; a slider stands on whole microsteps.
+            self.sliders = np.round(self.sliders / p['microstep']) * p['microstep']
         corners, _, converged = solve_corners(self.design, self.sliders + self.rail_base)
         self.converged = converged
         pose = platform_pose(corners)
