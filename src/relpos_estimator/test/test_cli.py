@@ -58,7 +58,7 @@ def test_tune_writes_a_parameter_file_that_evaluate_loads(tmp_path, capsys):
 def test_user_mistakes_are_one_line_errors(tmp_path, capsys):
     assert main(['evaluate', str(tmp_path / 'nothing'), '--out', str(tmp_path)]) == 2
     err = capsys.readouterr().err
-    assert err.startswith('tethersim estimator: error:') and 'Traceback' not in err
+    assert err.splitlines()[-1].startswith('tethersim estimator: error:') and 'Traceback' not in err
     bad = tmp_path / 'bad.yaml'
     bad.write_text('/**:\n  ros__parameters:\n    sigma_z: -1.0\n')
     assert main(['evaluate', str(HPR3), '--params', str(bad), '--out', str(tmp_path)]) == 2
