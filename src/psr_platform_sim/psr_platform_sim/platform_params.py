@@ -84,4 +84,5 @@ def from_params(params: Mapping[str, Any]) -> PlatformConfig:
         sample_rate=p['imu_rate'], heave_limit=p['heave_limit'], rail_length=p['rail_length'],
         max_slider_speed=p['max_slider_speed'], max_slider_accel=p['max_slider_accel'], table_steps=p['table_steps'],
         cache_dir=Path(p['cache_dir']) if p['cache_dir'] else None,
-        reel_offset=(offset[0], offset[1], offset[2]))
+        reel_offset=(offset[0], offset[1], offset[2]), actuator_effects=tuple(p['actuator_effects']),
+        microstep=p['microstep'])

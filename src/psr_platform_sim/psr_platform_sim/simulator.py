@@ -136,6 +136,8 @@ class PlatformConfig:
         table_steps: lookup-table grid steps per slider axis.
         cache_dir: lookup-table cache directory (None: the default cache).
         reel_offset: reel mount from the platform centre in the FLU ``boat`` frame, m.
+        actuator_effects: ``firmware`` and/or ``microstep`` (see the module docstring).
+        microstep: slider travel per microstep, m.
     """
 
     design: Design
@@ -154,6 +156,8 @@ class PlatformConfig:
     table_steps: int
     cache_dir: Path | None
     reel_offset: tuple[float, float, float]
+    actuator_effects: tuple[str, ...] = ()
+    microstep: float = 2.5e-5
 
 
 class PlatformSimulator:
@@ -190,7 +194,7 @@ class PlatformSimulator:
         self.rate = c.sample_rate
         t = np.arange(0.0, profile.t[-1] + 0.5 / self.rate, 1.0 / self.rate)
         self.t = t
-        effects = set(p.get('actuator_effects', []))
+        effects = set(c.actuator_effects)
         if 'firmware' in effects:
             # Sec. 2.2: the firmware commands a number of motor steps per clock tick, so each
             # slider runs at a constant speed between commands.
@@ -204,7 +208,7 @@ class PlatformSimulator:
             self.slider_velocity = spline(t, 1)
         if 'microstep' in effects:
             # Sec. 2.8: 16:1 microstepping; a slider stands on whole microsteps.
-            self.sliders = np.round(self.sliders / p['microstep']) * p['microstep']
+            self.sliders = np.round(self.sliders / c.microstep) * c.microstep
         corners, _, converged = solve_corners(self.design, self.sliders + self.rail_base)
         self.converged = converged
         pose = platform_pose(corners)
