@@ -37,7 +37,7 @@ def test_uav_sitl_scene_takes_off_holds_station_and_lands(tmp_path, monkeypatch)
     summary = (out / 'summary.txt').read_text()
     assert 'uav hold' in summary and 'thesis Sec. 6.3' in summary and 'not comparable' in summary
     assert (out / 'uav_flight.png').stat().st_size > 10_000
-    flight = read_flight(out / 'bag')
+    flight = read_flight(out / 'bag' / 'bag_0.mcap')
     phases = [phase for _, phase, _, _ in flight['phases']]
     assert phases[0] == 'wait' and 'hold' in phases and phases[-1] == 'landed'
     assert flight['phases'][-1][2] == 'end of the mission'
