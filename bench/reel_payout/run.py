@@ -84,7 +84,8 @@ def run(method: str, dt: float, hold: float) -> dict:
     return {'method': method, 'dt': dt, 'wall_s': wall, 'jump_N': fem.largest_reel_tension_step(),
             'rms_err_N': float(np.sqrt(np.mean((tension[steady] - weight[steady]) ** 2))),
             'mass_err': mass_err, 'energy_residual': abs(bal['residual']) / bal['throughput'],
-            'size_ratio': ratio, 'events': sum(fem.mesh_events()), 'series': series}
+            'size_ratio': ratio, 'events': sum(fem.mesh_events()), 'series': series,
+            'jump_t': fem.largest_reel_tension_step_time()}
 
 
 def _fmt(row: dict) -> str:

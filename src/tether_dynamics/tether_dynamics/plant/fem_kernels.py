@@ -38,19 +38,22 @@ STATUS_OK, STATUS_FULL, STATUS_NONFINITE, STATUS_SHORT = 0, 1, 2, 3
 # wind (3), reel command, thrust, pending length ('insert'), UAV mass, the last step's feed rate
 # into the reel element, the reel command of the previous call (a spool-rate command ramps from
 # it over the call), the rest length a merge took out of the reel element and still owes it.
+# The last (3) slots: node 1's acceleration in the last step (the reel element's inertia).
 (FP_EA, FP_MU, FP_H, FP_G, FP_DIAMETER, FP_CDN, FP_CDT, FP_RHO, FP_KV, FP_WIND, FP_COMMAND, FP_THRUST,
- FP_PENDING, FP_UAV_MASS, FP_PAYOUT, FP_COMMAND_PREV, FP_OWED) = (0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 12, 13, 14, 15, 16,
-                                                                 17, 18)
-FP_SIZE = 19
+ FP_PENDING, FP_UAV_MASS, FP_PAYOUT, FP_COMMAND_PREV, FP_OWED, FP_ACC1) = (0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 12, 13, 14,
+                                                                          15, 16, 17, 18, 19)
+FP_SIZE = 22
 # Time constant (s) over which the reel element gets back what a merge took out of it.
 PAYBACK = 0.25
 # acc (float64): energy flows into the deployed tether (J): through the moving ends, the
 # rest-length change, the mass change of the free lumps (with the inflow's momentum), drag,
 # Kelvin-Voigt dissipation, and the energy change of mesh splits and merges; then the
-# largest change of the reel tension from one step to the next (N), the last reel tension, and
-# the rest length merges took out of the reel element (m, summed).
-ACC_ENDS, ACC_REST, ACC_MASS, ACC_DRAG, ACC_KV, ACC_RESHAPE, ACC_JUMP, ACC_LAST_T, ACC_OWED = range(9)
-ACC_SIZE = 9
+# largest change of the reel tension from one step to the next (N), the last reel tension, the
+# rest length merges took out of the reel element (m, summed), the time of the largest change
+# (s), and the energy throughput: the integral of the flows' absolute values (J).
+(ACC_ENDS, ACC_REST, ACC_MASS, ACC_DRAG, ACC_KV, ACC_RESHAPE, ACC_JUMP, ACC_LAST_T, ACC_OWED, ACC_JUMP_T,
+ ACC_THROUGHPUT) = range(11)
+ACC_SIZE = 11
 
 
 @njit(cache=True)
@@ -160,12 +163,16 @@ def energy(x, v, rest, n, fp):
 @njit(cache=True)
 def exit_tension(x, rest, tens, fp):
     """Tension where the tether leaves the guide way (N): the reel element's (uniform)
-    tension carried from its midpoint to its start by the weight of the half-element,
-    T(0) = T_0 - mu g e_z l_0 / 2 (e the element's unit vector away from the guide way)."""
+    tension carried from its midpoint to its start by the weight and inertia of the
+    half-element, T(0) = T_0 - mu (g e_z + a . e) l_0 / 2 (e the element's unit vector away
+    from the guide way, a node 1's acceleration in the last step)."""
     d0 = np.sqrt((x[1, 0] - x[0, 0]) ** 2 + (x[1, 1] - x[0, 1]) ** 2 + (x[1, 2] - x[0, 2]) ** 2)
     if tens[0] <= 0.0 or d0 == 0.0:
         return 0.0
-    t = tens[0] - 0.5 * fp[FP_MU] * fp[FP_G] * (x[1, 2] - x[0, 2]) / d0 * rest[0]
+    along = 0.0
+    for c in range(3):
+        along += fp[FP_ACC1 + c] * (x[1, c] - x[0, c]) / d0
+    t = tens[0] - 0.5 * fp[FP_MU] * (fp[FP_G] * (x[1, 2] - x[0, 2]) / d0 + along) * rest[0]
     return t if t > 0.0 else 0.0
 
 
@@ -176,8 +183,9 @@ def _split(x, v, rest, st, fp, u0):
     Mass and momentum: the new node's velocity is the material velocity interpolated at the
     mass fraction l_a / l_0, so the lumps' momentum is unchanged. Geometry: the node lies on
     the element's chord, so the tether's shape is unchanged; where along the chord is chosen
-    so the two new elements carry the static tension gradient of the tether's weight
-    (T_a - T_b = -mu g e_z (l_a + l_b) / 2, mean strain kept): the exit tension
+    so the two new elements carry the tension gradient of the tether's weight and inertia
+    (T_a - T_b = -mu (g e_z + a . e) (l_a + l_b) / 2, a node 1's acceleration, mean strain
+    kept): the exit tension
     :func:`exit_tension` is then the same before and after the cut.
     """
     n = st[ST_NODES]
@@ -192,7 +200,10 @@ def _split(x, v, rest, st, fp, u0):
     eps = chord / l0 - 1.0
     frac = lam
     if eps > 0.0 and chord > 0.0:
-        grad = -fp[FP_MU] * fp[FP_G] * (x[1, 2] - x[0, 2]) / chord
+        along = 0.0
+        for c in range(3):
+            along += fp[FP_ACC1 + c] * (x[1, c] - x[0, c]) / chord
+        grad = -fp[FP_MU] * (fp[FP_G] * (x[1, 2] - x[0, 2]) / chord + along)
         diff = grad * 0.5 * (la + lb) / fp[FP_EA]
         eps_a, eps_b = eps + diff * lb / l0, eps - diff * la / l0
         if eps_a > 0.0 and eps_b > 0.0:
@@ -296,6 +307,7 @@ def advance(x, v, rest, st, fp, rs, rp, g_tab, u_tab, t_a, t_b, n_sub, bs, inert
         t_exit = exit_tension(x, rest, tens, fp)
         if np.isfinite(acc[ACC_LAST_T]) and abs(t_exit - acc[ACC_LAST_T]) > acc[ACC_JUMP]:
             acc[ACC_JUMP] = abs(t_exit - acc[ACC_LAST_T])
+            acc[ACC_JUMP_T] = t
         acc[ACC_LAST_T] = t_exit
         for i in range(n):
             f[i, 0] = 0.0
@@ -313,10 +325,13 @@ def advance(x, v, rest, st, fp, rs, rp, g_tab, u_tab, t_a, t_b, n_sub, bs, inert
         if st[ST_DRAG] == 1:
             drag[:n] = 0.0
             _drag(x, v, n, fp, st[ST_WIND] == 1, drag)
+            p_drag = 0.0
             for i in range(1, n - 1):
                 for c in range(3):
                     f[i, c] += drag[i, c]
-                    acc[ACC_DRAG] += dt * drag[i, c] * v[i, c]
+                    p_drag += drag[i, c] * v[i, c]
+            acc[ACC_DRAG] += dt * p_drag
+            acc[ACC_THROUGHPUT] += dt * abs(p_drag)
         # Energy flows of this step (evaluated at its start, as the forces are).
         e_last = n - 2
         dl = np.sqrt((x[n - 1, 0] - x[e_last, 0]) ** 2 + (x[n - 1, 1] - x[e_last, 1]) ** 2
@@ -328,6 +343,7 @@ def advance(x, v, rest, st, fp, rs, rp, g_tab, u_tab, t_a, t_b, n_sub, bs, inert
             if dl > 0.0:
                 p_ends += tens[e_last] * (x[n - 1, c] - x[e_last, c]) / dl * vf[c]
         acc[ACC_ENDS] += dt * p_ends
+        acc[ACC_THROUGHPUT] += dt * abs(p_ends)
         end_forces(x, rest, n, tens, fp, force_reel, force_uav)
         # Winch and UAV body.
         command = fp[FP_COMMAND]
@@ -359,7 +375,10 @@ def advance(x, v, rest, st, fp, rs, rp, g_tab, u_tab, t_a, t_b, n_sub, bs, inert
                     a += flux / m
                     p_mass += flux * v[i, c]
                 v[i, c] += dt * a
+                if i == 1:
+                    fp[FP_ACC1 + c] = a
             acc[ACC_MASS] += dt * p_mass
+            acc[ACC_THROUGHPUT] += dt * abs(p_mass)
         # Elastic energy released by the rest-length change, and the gravitational energy of
         # the kinematic end lumps (they are part of the counted potential energy).
         p_rest = 0.0
@@ -377,9 +396,12 @@ def advance(x, v, rest, st, fp, rs, rp, g_tab, u_tab, t_a, t_b, n_sub, bs, inert
                 p_rest -= fp[FP_EA] * eps * (1.0 + 0.5 * eps) * ldot
             p_rest += mu * ldot * g * 0.5 * (x[e, 2] + x[e + 1, 2])
         acc[ACC_REST] += dt * p_rest
+        acc[ACC_THROUGHPUT] += dt * abs(p_rest)
         # Gravity work on the end lumps is not in the balance's system: their potential
         # energy change is an inflow.
-        acc[ACC_ENDS] += dt * g * (0.5 * mu * rest[0] * v0[2] + 0.5 * mu * rest[n_el - 1] * vf[2])
+        p_lumps = g * (0.5 * mu * rest[0] * v0[2] + 0.5 * mu * rest[n_el - 1] * vf[2])
+        acc[ACC_ENDS] += dt * p_lumps
+        acc[ACC_THROUGHPUT] += dt * abs(p_lumps)
         if st[ST_KV] == 1:
             for e in range(n_el):
                 tk = tens[e]
@@ -392,6 +414,7 @@ def advance(x, v, rest, st, fp, rs, rp, g_tab, u_tab, t_a, t_b, n_sub, bs, inert
                     for c in range(3):
                         w += (x[e + 1, c] - x[e, c]) / length * (v[e + 1, c] - v[e, c])
                     acc[ACC_KV] -= dt * tk * w
+                    acc[ACC_THROUGHPUT] += dt * abs(tk * w)
         for i in range(1, n - 1):
             for c in range(3):
                 x[i, c] += dt * v[i, c]
@@ -412,12 +435,14 @@ def advance(x, v, rest, st, fp, rs, rp, g_tab, u_tab, t_a, t_b, n_sub, bs, inert
                 e_before = energy(x, v, rest, n, fp)
                 _split(x, v, rest, st, fp, u0)
                 acc[ACC_RESHAPE] += energy(x, v, rest, st[ST_NODES], fp) - e_before
+                acc[ACC_THROUGHPUT] += abs(energy(x, v, rest, st[ST_NODES], fp) - e_before)
             elif rest[0] < MERGE * h and n > 3:
                 e_before = energy(x, v, rest, n, fp)
                 owed = _merge(x, v, rest, st, fp, u0, v0, feed, True)
                 fp[FP_OWED] += owed
                 acc[ACC_OWED] += owed
                 acc[ACC_RESHAPE] += energy(x, v, rest, st[ST_NODES], fp) - e_before
+                acc[ACC_THROUGHPUT] += abs(energy(x, v, rest, st[ST_NODES], fp) - e_before)
         elif method == METHOD_INSERT:
             if fp[FP_PENDING] >= h:
                 e_before = energy(x, v, rest, n, fp)
@@ -425,12 +450,14 @@ def advance(x, v, rest, st, fp, rs, rp, g_tab, u_tab, t_a, t_b, n_sub, bs, inert
                 fp[FP_PENDING] -= h
                 _split(x, v, rest, st, fp, v0)
                 acc[ACC_RESHAPE] += energy(x, v, rest, st[ST_NODES], fp) - e_before
+                acc[ACC_THROUGHPUT] += abs(energy(x, v, rest, st[ST_NODES], fp) - e_before)
             elif fp[FP_PENDING] <= -h and n > 3:
                 e_before = energy(x, v, rest, n, fp)
                 _merge(x, v, rest, st, fp, v0, v0, 0.0, False)
                 rest[0] -= h
                 fp[FP_PENDING] += h
                 acc[ACC_RESHAPE] += energy(x, v, rest, st[ST_NODES], fp) - e_before
+                acc[ACC_THROUGHPUT] += abs(energy(x, v, rest, st[ST_NODES], fp) - e_before)
         if st[ST_STATUS] != STATUS_OK:
             return
         n = st[ST_NODES]

@@ -17,10 +17,13 @@ where it can be and conservative where it cannot:
    the momentum of that material, m1 dv1/dt = F1 + (mu Ldot / 2)(u0 - v1), so payout and
    reel-in add no spurious force, and the jump in velocity between drum and tether is the
    Carnot loss of Sec. 7.3 (counted in the energy balance, not hidden).
-2. Exact split. When the reel element grows past 1.5 h (h the nominal element length), a
-   node is put at rest length l_r - h from the guide way at the linear interpolant's
-   position and material velocity. The deformed field, each element's strain (so every
-   tension), the total mass and the total momentum are unchanged: no tension step.
+2. Split. When the reel element grows past 1.5 h (h the nominal element length), a node
+   is put at rest length l_r - h from the guide way, on the element's chord (the shape is
+   unchanged), with the material velocity interpolated at that mass fraction (mass and
+   momentum unchanged); where on the chord is chosen so the two new elements carry the
+   tension gradient of the tether's weight and inertia with the mean strain kept, so the
+   exit tension (the reel element's tension carried to the guide way over its half-length,
+   which is what the winch feels and the plant reports) has no step.
 3. Strain-keeping merge. When it shrinks below h / 4, node 1 is removed and node 2's
    velocity is set so the momentum of the three lumps involved is unchanged. The joined
    element keeps the rest-length-weighted mean strain of the two it replaces: where node 1
@@ -295,19 +298,24 @@ class FemTether:
 
     def balance(self) -> dict[str, float]:
         """Energy balance of the deployed tether since the start, J: the energy change, each
-        inflow, and the residual change - inflows - mesh-change energy."""
+        inflow, the residual change - inflows - mesh-change energy, and the throughput (the
+        time integral of the flows' absolute values, the scale the residual is judged on)."""
         flows = {'ends': self.acc[fk.ACC_ENDS], 'rest_length': self.acc[fk.ACC_REST],
                  'mass_flux': self.acc[fk.ACC_MASS], 'drag': self.acc[fk.ACC_DRAG],
                  'damping': self.acc[fk.ACC_KV], 'reshape': self.acc[fk.ACC_RESHAPE]}
         change = self.energy() - self.energy0
         out = {'change': change, **{k: float(v) for k, v in flows.items()}}
         out['residual'] = change - sum(flows.values())
-        out['throughput'] = sum(abs(v) for v in flows.values())
+        out['throughput'] = float(self.acc[fk.ACC_THROUGHPUT])
         return out
 
     def largest_reel_tension_step(self) -> float:
         """Largest change of the reel-end tension from one internal step to the next, N."""
         return float(self.acc[fk.ACC_JUMP])
+
+    def largest_reel_tension_step_time(self) -> float:
+        """When the largest change of the reel-end tension happened, s."""
+        return float(self.acc[fk.ACC_JUMP_T])
 
     def mesh_events(self) -> tuple[int, int]:
         """Splits and merges (or insertions and removals) so far."""
