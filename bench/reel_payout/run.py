@@ -113,7 +113,8 @@ def main() -> None:
               f"{'E resid':>9s} {'size r':>7s} {'events':>6s} {'wall s':>7s}")
     lines = [f'Reel payout 5 -> 25 -> 5 m at 2 m/s, 1 kg end body, EA {EA:g} N, dt {dt:g} s (and dt/2)',
              header] + [_fmt(r) for r in rows]
-    best = {k: min(rows, key=lambda r: r[k])['method'] for k in ('jump_N', 'mass_err', 'rms_err_N')}
+    best = {k: ', '.join(r['method'] for r in rows if r[k] == min(q[k] for q in rows))
+            for k in ('jump_N', 'mass_err', 'rms_err_N')}
     ale = next(r for r in rows if r['method'] == 'ale')
     cheapest = min(rows, key=lambda r: r['wall_s'])
     lines.append(f"smallest tension step: {best['jump_N']}; smallest mass error: {best['mass_err']}; "
