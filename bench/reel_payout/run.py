@@ -134,9 +134,10 @@ def main() -> None:
         for r in rows:
             writer.writerow([r[k] for k in keys])
     fig, axes = plt.subplots(2, 1, figsize=(10, 7), sharex=True)
-    for r in rows:
+    for r in reversed(rows):
         t, tension, length, _, _ = r['series'].T
-        axes[0].plot(t, tension - (MASS + MU * length) * G, lw=0.8, label=r['method'])
+        axes[0].plot(t, tension - (MASS + MU * length) * G, lw=0.8, label=r['method'],
+                     alpha=0.35 if r['method'] == 'insert' else 1.0)
         axes[1].plot(t, length, lw=0.8, label=r['method'])
     axes[0].set_ylabel('reel tension - (m + mu L) g, N')
     axes[0].set_ylim(-5, 5)
