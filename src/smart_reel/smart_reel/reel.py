@@ -35,6 +35,8 @@ from smart_reel.winch import Friction
 from smart_reel.winch import Winch
 
 CONTROLLERS = ('catenary', 'taut', 'locked')
+HISTORY = 2000
+"""Steps of the reel's own length kept to compare with the plant's (20 s at 10 ms)."""
 
 
 @dataclass
@@ -138,6 +140,28 @@ class ReelCore:
         self._arm_angle = math.nan
         self.sync_gain = sync_gain
         self._history: dict[int, float] = {}
+        self._corrections: dict[int, float] = {}
+
+    def _sync(self, t: float, deployed: float, inputs: ReelInputs) -> float:
+        """Payout (m/s) added to the command so that the plant's length converges onto the reel's.
+
+        The plant's length at its stamp ``t_p`` has taken the commands stamped before
+        ``t_p``; the corrections sent since are still on their way and are not repeated.
+        """
+        key = round(t / self.step_size)
+        self._history[key + 1] = deployed  # the length at the end of this step
+        for old in (key - HISTORY, key + 1 - HISTORY):
+            self._history.pop(old, None)
+            self._corrections.pop(old, None)
+        correction = 0.0
+        if inputs.plant_length is not None and inputs.plant_time is not None:
+            seen = round(inputs.plant_time / self.step_size)
+            own = self._history.get(seen)
+            if own is not None:
+                pending = sum(self._corrections.get(k, 0.0) for k in range(seen, key)) * self.step_size
+                correction = self.sync_gain * (own - inputs.plant_length - pending)
+        self._corrections[key] = correction
+        return correction
 
     def measured_length(self) -> float:
         """Deployed length (m) from the encoder count through the spool's layer model."""
@@ -181,14 +205,7 @@ class ReelCore:
         before_angle, before_length = w.state.spool_angle, w.deployed
         state = w.step(self.step_size, self._drive, self._command, inputs.tension or 0.0)
         payout = (w.deployed - before_length) / self.step_size
-        key = round((t + self.step_size) / self.step_size)
-        self._history[key] = w.deployed
-        self._history.pop(key - 1000, None)
-        command_payout = payout
-        if inputs.plant_length is not None and inputs.plant_time is not None:
-            own = self._history.get(round(inputs.plant_time / self.step_size))
-            if own is not None:
-                command_payout += self.sync_gain * (own - inputs.plant_length)
+        command_payout = payout + self._sync(t, w.deployed, inputs)
         if inputs.departure_angle is not None:
             self._arm_angle = self.arm.read(inputs.departure_angle, payout)
         mode = 'fault' if self._trip else self.mode

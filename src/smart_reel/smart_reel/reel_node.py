@@ -16,6 +16,10 @@ angle, clearances) and the relative position, ``/truth/relative``
 (tether_msgs/RelativePosition, like the thesis's MoCap) or ``/estimate/relative``
 (tether_msgs/RelativeEstimate) as ``relative_source`` says.
 
+Ticks wait for their inputs (``wait_for_inputs``): tick ``t`` runs once both input streams
+have delivered a message stamped at or after ``t - input_delay``, so the reel acts on the
+same inputs however late the plant's messages arrive (it then runs behind ``/clock``).
+
 Loop delay: the tension acting on the drum over ``[t, t + step]`` is the plant's at
 ``t - input_delay`` (one plant step by default), and the plant applies the payout of
 ``[t, t + step]`` after receiving it; why the drive is integrated here and not in the
@@ -27,6 +31,7 @@ from __future__ import annotations
 import bisect
 import math
 import sys
+from collections import deque
 
 from rclpy.node import Node
 from rclpy.time import Time
@@ -74,6 +79,11 @@ class StampedInput:
         if len(self.stamps) > self.keep:
             del self.stamps[0], self.messages[0]
 
+    @property
+    def latest(self) -> int | None:
+        """Stamp (ns) of the newest message, or None."""
+        return self.stamps[-1] if self.stamps else None
+
     def at(self, time_ns: int):
         """The latest message stamped at or before ``time_ns``, or None."""
         i = bisect.bisect_right(self.stamps, time_ns)
@@ -107,18 +117,43 @@ class ReelNode(Node):
         self.delay_ns = round(p['input_delay'] * 1e9)
         self.tether = StampedInput()
         self.relative = StampedInput()
-        self.create_subscription(TetherState, '/tether/state', self.tether.add, STATE)
+        self.pending: deque[Time] = deque()
+        self.create_subscription(TetherState, '/tether/state', self._on_tether, STATE)
         if p['relative_source'] == 'truth':
-            self.create_subscription(RelativePosition, '/truth/relative', self.relative.add, STATE)
+            self.create_subscription(RelativePosition, '/truth/relative', self._on_relative, STATE)
         else:
-            self.create_subscription(RelativeEstimate, '/estimate/relative', self.relative.add, STATE)
+            self.create_subscription(RelativeEstimate, '/estimate/relative', self._on_relative, STATE)
         self.command_pub = self.create_publisher(ReelCommand, '/reel/command', COMMAND)
         self.state_pub = self.create_publisher(ReelState, '/reel/state', STATE)
         self.diagnostics_pub = self.create_publisher(ReelControllerDiagnostics, '/reel/diagnostics', STATE)
-        self.timer = SimTimer(self, p['step'], self.tick)
+        self.timer = SimTimer(self, p['step'], self._on_tick)
         self.get_logger().info(
             f'smart reel: {p["controller"]} controller, relative position from {p["relative_source"]}, '
             f'step {p["step"]:g} s, control {p["control_rate"]:g} Hz, kp {p["kp"]:g} V/m, kd {p["kd"]:g} V s/m')
+
+    def _on_tether(self, msg: TetherState) -> None:
+        self.tether.add(msg)
+        self._drain()
+
+    def _on_relative(self, msg) -> None:
+        self.relative.add(msg)
+        self._drain()
+
+    def _on_tick(self, tick: Time) -> None:
+        self.pending.append(tick)
+        self._drain()
+
+    def _ready(self, tick_ns: int) -> bool:
+        """Both inputs have reached the stamp tick t uses (``wait_for_inputs``), so t can run."""
+        if not self.params['wait_for_inputs']:
+            return True
+        need = tick_ns - self.delay_ns
+        return all(s.latest is not None and s.latest >= need for s in (self.tether, self.relative))
+
+    def _drain(self) -> None:
+        """Run the pending ticks, in order, as far as their inputs have arrived."""
+        while self.pending and self._ready(self.pending[0].nanoseconds):
+            self.tick(self.pending.popleft())
 
     def _inputs(self, tick_ns: int) -> tuple[ReelInputs, TetherState | None]:
         select = tick_ns - self.delay_ns

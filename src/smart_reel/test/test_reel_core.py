@@ -58,3 +58,14 @@ def test_commanded_payout_pulls_the_plant_length_onto_the_reel_length():
     assert out.command_payout == pytest.approx(1.0)
     # a stamp the reel has no length for (before its start) adds nothing
     assert core.step(0.02, ReelInputs(plant_length=7.9, plant_time=-5.0)).command_payout == 0.0
+
+
+def test_corrections_in_flight_are_not_repeated():
+    core = build_core(dict(default_parameters(), controller='locked', sync_gain=10.0), 8.0)
+    core.step(0.0, ReelInputs())
+    core.step(0.01, ReelInputs())
+    # the plant is 0.1 m short at t = 0.01; two ticks see that same stamp
+    first = core.step(0.02, ReelInputs(plant_length=7.9, plant_time=0.01))
+    second = core.step(0.03, ReelInputs(plant_length=7.9, plant_time=0.01))
+    assert first.command_payout == pytest.approx(1.0)
+    assert second.command_payout == pytest.approx(10.0 * (0.1 - 1.0 * 0.01))
