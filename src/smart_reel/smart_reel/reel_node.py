@@ -49,7 +49,7 @@ from smart_reel.reel import build_core
 from smart_reel.reel_params import PARAMETERS
 from tether_common.node_main import ConfigurationError
 from tether_common.node_main import run_node
-from tether_common.qos import COMMAND
+from tether_common.qos import LOOP
 from tether_common.qos import STATE
 from tether_common.ros_parameters import declare_parameters
 from tether_common.sim_timer import SimTimer
@@ -118,12 +118,12 @@ class ReelNode(Node):
         self.tether = StampedInput()
         self.relative = StampedInput()
         self.pending: deque[Time] = deque()
-        self.create_subscription(TetherState, '/tether/state', self._on_tether, STATE)
+        self.create_subscription(TetherState, '/tether/state', self._on_tether, LOOP)
         if p['relative_source'] == 'truth':
-            self.create_subscription(RelativePosition, '/truth/relative', self._on_relative, STATE)
+            self.create_subscription(RelativePosition, '/truth/relative', self._on_relative, LOOP)
         else:
-            self.create_subscription(RelativeEstimate, '/estimate/relative', self._on_relative, STATE)
-        self.command_pub = self.create_publisher(ReelCommand, '/reel/command', COMMAND)
+            self.create_subscription(RelativeEstimate, '/estimate/relative', self._on_relative, LOOP)
+        self.command_pub = self.create_publisher(ReelCommand, '/reel/command', LOOP)
         self.state_pub = self.create_publisher(ReelState, '/reel/state', STATE)
         self.diagnostics_pub = self.create_publisher(ReelControllerDiagnostics, '/reel/diagnostics', STATE)
         self.timer = SimTimer(self, p['step'], self._on_tick)

@@ -29,8 +29,9 @@ PARAMETERS: tuple[ParamSpec, ...] = (
               low=0.0, high=1.0, read_only=True),
     ParamSpec('sync_gain', 10.0, 'rate at which the commanded payout pulls the plant\'s deployed length onto '
               'the reel\'s (smart_reel.reel)', '1/s', low=0.0, high=1000.0, read_only=True),
-    ParamSpec('wait_for_inputs', True, 'run tick t only once /tether/state and the relative position have '
-              'reached t - input_delay (false: run on /clock with whatever has arrived)', read_only=True),
+    ParamSpec('wait_for_inputs', False, 'run tick t only once /tether/state and the relative position have '
+              'reached t - input_delay (false: run on /clock with whatever has arrived; the plant, which does '
+              'not wait for /reel/command, then finds the command of every tick)', read_only=True),
     ParamSpec('kp', 2943.4, 'proportional gain on the length error (`tethersim reel tune`: 60 s JONSWAP, 38 runs)', 'V/m',
               low=0.0, high=1e5, read_only=True),
     ParamSpec('kd', 8.01, 'derivative gain on the length error (`tethersim reel tune`: 60 s JONSWAP, 38 runs)', 'V s/m',

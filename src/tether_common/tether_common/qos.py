@@ -15,6 +15,9 @@ from rclpy.qos import qos_profile_sensor_data
 SENSOR = qos_profile_sensor_data
 STATE = QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=10, reliability=ReliabilityPolicy.RELIABLE)
 COMMAND = STATE
+LOOP = QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=1000, reliability=ReliabilityPolicy.RELIABLE)
+"""Closed-loop streams selected by stamp (reel command, tether state): a consumer running behind
+its producer must still find the message of every tick, so 10 s at 100 Hz are queued."""
 LATCHED = QoSProfile(
     history=HistoryPolicy.KEEP_LAST,
     depth=1,

@@ -43,7 +43,7 @@ from visualization_msgs.msg import MarkerArray
 
 from tether_common.node_main import ConfigurationError
 from tether_common.node_main import run_node
-from tether_common.qos import COMMAND
+from tether_common.qos import LOOP
 from tether_common.qos import SENSOR
 from tether_common.qos import STATE
 from tether_common.ros_parameters import declare_parameters
@@ -170,7 +170,7 @@ class PlantNode(Node):
             self.create_subscription(PoseStamped, '/uav/pose', self.uav_pose.add, SENSOR)
             self.create_subscription(TwistStamped, '/uav/twist', self.uav_twist.add, SENSOR)
         if p['reel_input'] == 'command':
-            self.create_subscription(ReelCommand, '/reel/command', self.reel_command.add, COMMAND)
+            self.create_subscription(ReelCommand, '/reel/command', self.reel_command.add, LOOP)
         self.state_pub = self.create_publisher(TetherState, '/tether/state', STATE)
         self.wrench_pub = self.create_publisher(WrenchStamped, '/tether/uav_wrench', STATE)
         self.truth_pub = self.create_publisher(RelativePosition, '/truth/relative', STATE)
