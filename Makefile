@@ -12,7 +12,7 @@ export AMENT_PREFIX_PATH := $(CURDIR)/$(VENV)
 
 PKG_SOURCES := $(shell find src -type f \( -name '*.msg' -o -name 'CMakeLists.txt' -o -name 'package.xml' -o -name 'setup.py' -o -name 'setup.cfg' -o -path '*/scenes/*' \) 2>/dev/null)
 
-.PHONY: setup build run test bench clean
+.PHONY: setup build run test lint bench clean
 
 setup: $(STAMP_BUILD)
 
@@ -35,8 +35,13 @@ build: $(STAMP_BUILD)
 run: $(STAMP_BUILD)
 	./tethersim run $(SCENE) $(ARGS)
 
-test: $(STAMP_BUILD)
+test: $(STAMP_BUILD) lint
 	./tethersim-env python -m pytest -q src test $(ARGS)
+
+# ruff over all Python, mypy over the plain-Python cores (pyproject.toml says which and how)
+lint: $(STAMP_VENV)
+	$(VENV)/bin/ruff check src test bench tools
+	$(VENV)/bin/mypy
 
 bench: $(STAMP_BUILD)
 	@for bench in bench/*/run.py; do echo "== $$bench"; ./tethersim-env python $$bench || exit 1; done

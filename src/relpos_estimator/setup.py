@@ -6,12 +6,13 @@ setup(
     name=package_name,
     version='0.1.0',
     packages=find_packages(exclude=['test']),
+    package_data={package_name: ['py.typed']},
     data_files=[
         ('share/ament_index/resource_index/packages', ['resource/' + package_name]),
         ('share/' + package_name, ['package.xml']),
     ],
     install_requires=['setuptools'],
-    zip_safe=True,
+    zip_safe=False,  # py.typed: type checkers read the installed sources (PEP 561)
     maintainer='tethersim',
     maintainer_email='tethersim@example.org',
     description='Simulated RTK dGPS and IMUs with faults, and the relative-altitude Kalman filter with message logic.',

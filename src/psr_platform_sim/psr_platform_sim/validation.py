@@ -19,7 +19,7 @@ from psr_platform_sim.workspace import WorkspaceTable
 def region_boundary(table: WorkspaceTable, region: Region) -> np.ndarray:
     """Roll-pitch boundary (rad) of a workspace region, a closed loop (m, 2)."""
     mask = region.points.astype(float)
-    lines = contourpy.contour_generator(z=mask).lines(0.5)
+    lines = [np.asarray(line) for line in contourpy.contour_generator(z=mask).lines(0.5)]
     loop = max(lines, key=len)  # columns: (k, j) in grid indices
     coords = np.stack([loop[:, 1], loop[:, 0]])
     roll = ndimage.map_coordinates(table.roll, coords, order=1)

@@ -64,8 +64,8 @@ class MotionProfile:
     def resampled(self, rate: float) -> MotionProfile:
         """The profile at a fixed sample rate (Hz), linearly interpolated."""
         t = np.arange(0.0, self.t[-1] + 0.5 / rate, 1.0 / rate)
-        return MotionProfile(t, *(np.interp(t, self.t, a) for a in (self.heave, self.roll, self.pitch)),
-                             self.name)
+        heave, roll, pitch = (np.interp(t, self.t, a) for a in (self.heave, self.roll, self.pitch))
+        return MotionProfile(t, heave, roll, pitch, self.name)
 
     def ramped(self, ramp_time: float) -> MotionProfile:
         """The profile faded in from the level neutral pose over ``ramp_time`` (s), a cosine ramp."""

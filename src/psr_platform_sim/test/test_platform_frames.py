@@ -46,7 +46,7 @@ def _rep103(quaternion):
 
 def _tilt_csv(path, roll, pitch):
     """A constant pose in thesis angles (the profiles' convention)."""
-    path.write_text('time,heave,roll,pitch\n0,0,{0},{1}\n10,0,{0},{1}\n'.format(roll, pitch))
+    path.write_text(f'time,heave,roll,pitch\n0,0,{roll},{pitch}\n10,0,{roll},{pitch}\n')
     return str(path)
 
 

@@ -21,7 +21,6 @@ from __future__ import annotations
 import math
 import sys
 
-import numpy as np
 from rclpy.node import Node
 from rclpy.time import Time
 from sensor_msgs.msg import Imu

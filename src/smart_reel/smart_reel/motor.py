@@ -15,9 +15,8 @@ exponential towards ``(v - K_e ω_m)/R`` with time constant ``L/R``.
 The default values are of the motor's class (NEMA 23 integrated servo, 48 V supply), not
 measured on the prototype; each parameter's source is in :mod:`smart_reel.reel_params`.
 
-References
-----------
-K. Talke, PhD thesis, UC San Diego, 2021, Sec. 4.1 and Table 5.1.
+References:
+    K. Talke, PhD thesis, UC San Diego, 2021, Sec. 4.1 and Table 5.1.
 """
 
 from __future__ import annotations

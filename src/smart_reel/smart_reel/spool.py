@@ -13,9 +13,8 @@ one onto the deployed length: within a layer ``dL = r_k dθ``. The motor encoder
 back into a length through the same layer model, so the measured length is quantised to
 ``2π r_k/(N · counts_per_rev)``.
 
-References
-----------
-K. Talke, PhD thesis, UC San Diego, 2021, Sec. 4.1.
+References:
+    K. Talke, PhD thesis, UC San Diego, 2021, Sec. 4.1.
 """
 
 from __future__ import annotations
@@ -27,13 +26,12 @@ import math
 class SpoolGeometry:
     """Layered winding of ``capacity`` metres of tether on a drum.
 
-    Parameters
-    ----------
-    core_radius : drum radius under the first layer (m).
-    width : drum width between the flanges (m).
-    tether_diameter : d (m).
-    capacity : tether length on the spool when nothing is deployed (m).
-    linear_density : tether mass per length (kg/m), for the wound tether's inertia.
+    Parameters:
+        core_radius: drum radius under the first layer (m).
+        width: drum width between the flanges (m).
+        tether_diameter: d (m).
+        capacity: tether length on the spool when nothing is deployed (m).
+        linear_density: tether mass per length (kg/m), for the wound tether's inertia.
     """
 
     def __init__(self, core_radius: float, width: float, tether_diameter: float, capacity: float,

@@ -243,7 +243,7 @@ def _plots(out: Path, by_mode: dict[str, tuple[Run, dict]]) -> None:
     import matplotlib.pyplot as plt
     colors = {'catenary': 'tab:blue', 'taut': 'tab:red', 'locked': 'tab:gray'}
     fig, axes = plt.subplots(2, 1, figsize=(11, 7), sharex=True)
-    for mode, (run, r) in by_mode.items():
+    for mode, (run, r) in by_mode.items():  # noqa: B007 - the last run also labels the figure below
         t = r['t'] - r['t'][0]
         axes[0].plot(t, r['measured'], color=colors[mode], label=f'{mode}: measured length')
         axes[0].plot(t, r['model'], color=colors[mode], ls=':', lw=1, label=f'{mode}: catenary model')
@@ -264,7 +264,7 @@ def _plots(out: Path, by_mode: dict[str, tuple[Run, dict]]) -> None:
     plt.close(fig)
 
     fig, axes = plt.subplots(3, 1, figsize=(11, 9))
-    for mode, (run, r) in by_mode.items():
+    for mode, (run, r) in by_mode.items():  # noqa: B007 - the last run also labels the figure below
         t = r['t'] - r['t'][0]
         axes[0].plot(t, np.degrees(run.tether['arrival']), color=colors[mode], label=f'{mode}: measured β')
         if mode == 'catenary':
@@ -287,7 +287,7 @@ def _plots(out: Path, by_mode: dict[str, tuple[Run, dict]]) -> None:
     plt.close(fig)
 
     fig, ax = plt.subplots(figsize=(11, 4.5))
-    for mode, (run, r) in by_mode.items():
+    for mode, (run, r) in by_mode.items():  # noqa: B007 - the last run also labels the figure below
         ax.plot(r['t'] - r['t'][0], r['tension'], color=colors[mode], label=mode)
     ax.set_yscale('log')
     ax.set_ylabel('tension at the UAV (N)')
@@ -299,7 +299,7 @@ def _plots(out: Path, by_mode: dict[str, tuple[Run, dict]]) -> None:
     plt.close(fig)
 
     fig, ax = plt.subplots(figsize=(11, 4.5))
-    for mode, (run, r) in by_mode.items():
+    for mode, (run, r) in by_mode.items():  # noqa: B007 - the last run also labels the figure below
         t = r['t'] - r['t'][0]
         ax.plot(t, run.tether['clearance_deck'] + GUIDE_HEIGHT, color=colors[mode], label=f'{mode}: above deck')
         ax.plot(t, run.tether['clearance_sea'], color=colors[mode], ls='--', label=f'{mode}: above sea')

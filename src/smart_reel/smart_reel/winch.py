@@ -22,9 +22,8 @@ resulting payout over the step (``ReelCommand.CONTROL_SPOOL_RATE``). The remaini
 (tension → spool → payout → tension) crosses the one-step delay only through the
 tether's compliance, which is slow against the step.
 
-References
-----------
-K. Talke, PhD thesis, UC San Diego, 2021, Sec. 4.1, 6.1.4, Eq. 7.42.
+References:
+    K. Talke, PhD thesis, UC San Diego, 2021, Sec. 4.1, 6.1.4, Eq. 7.42.
 """
 
 from __future__ import annotations

@@ -71,7 +71,8 @@ def test_unflushed_writer_leaves_readable_prefix(tmp_path):
 
 def test_every_channel_carries_the_type_hash_rclpy_reports(tmp_path, monkeypatch):
     """A topic registered without its publisher's hash (/clock) gets the installed type's
-    RIHS01 hash, the same one rclpy reports for a publisher of that type."""
+    RIHS01 hash, the same one rclpy reports for a publisher of that type.
+    """
     with domain_coordinator.domain_id() as domain:
         monkeypatch.setenv('ROS_DOMAIN_ID', str(domain))
         context = rclpy.Context()

@@ -53,7 +53,8 @@ def qos_record(profile) -> QosRecord:
 
 def qos_profile(records: list[QosRecord], depth: int) -> QoSProfile:
     """A QoS profile matching every offered one: best effort if any publisher is, transient
-    local only if all are."""
+    local only if all are.
+    """
     best_effort = any(record.reliability == 'best_effort' for record in records)
     latched = bool(records) and all(record.durability == 'transient_local' for record in records)
     return QoSProfile(

@@ -52,7 +52,7 @@ def test_choice_or_existing_file(tmp_path, monkeypatch):
 
 def test_empty_list_without_item_type_is_refused():
     with pytest.raises(ValueError, match='needs item_type'):
-        ParamSpec('x', [], 'x').element_type
+        _ = ParamSpec('x', [], 'x').element_type
 
 
 def test_spec_table_refuses_duplicates():

@@ -5,7 +5,8 @@ Every ``tethersim`` subcommand is a :class:`Command` that its package registers 
 from them and runs the chosen one, importing only that command's module. A user mistake (a
 bad option value, an unreadable input file, an output directory that cannot be written) is
 printed as one line ``<prog>: error: <what>`` with exit status 2, never as a traceback (a
-mistake in the arguments names the (sub)command they belong to, as argparse does); a command module that fails to import is reported as that import error (exit 1).
+mistake in the arguments names the (sub)command they belong to, as argparse does); a command
+module that fails to import is reported as that import error (exit 1).
 """
 
 from __future__ import annotations
@@ -18,7 +19,6 @@ from collections.abc import Callable
 from collections.abc import Mapping
 from dataclasses import dataclass
 from importlib.metadata import entry_points
-from pathlib import Path
 
 COMMAND_GROUP = 'tethersim.commands'
 
@@ -104,9 +104,10 @@ def dispatch(prog: str, commands: Mapping[str, Callable[[], Command]], argv: lis
         print(f'{error.prog or prog}: error: {error}', file=sys.stderr)
         return 2
     command = args._command
+    user_errors: tuple[type[Exception], ...] = (UsageError, *command.user_errors)
     try:
         return command.run(args)
-    except (UsageError, *command.user_errors) as error:
+    except user_errors as error:
         print(f'{getattr(error, "prog", None) or prog}: error: {error}', file=sys.stderr)
         return 2
 
@@ -133,13 +134,15 @@ def analysis(prog: str, command: Callable[[argparse.Namespace], str],
     empty, so bad input leaves nothing behind. Returns 0, or 2 after a one-line error for a
     :class:`UsageError`, one of ``user_errors`` or an OS error on the files.
     """
+    mistakes: tuple[type[Exception], ...] = (UsageError, *user_errors)
+
     def run(args: argparse.Namespace) -> int:
         created = [path for path in (args.out, *args.out.parents) if not path.exists()]
         try:
             args.out.mkdir(parents=True, exist_ok=True)
             text = command(args).rstrip('\n') + '\n'
             (args.out / 'summary.txt').write_text(text, encoding='utf-8')
-        except (UsageError, *user_errors) as error:
+        except mistakes as error:
             for path in created:
                 if path.is_dir() and not any(path.iterdir()):
                     path.rmdir()

@@ -32,7 +32,8 @@ def test_wind_pushes_the_tether_downwind(element: str) -> None:
 def test_uniform_cross_wind_gives_the_consistent_load_vector(element: str) -> None:
     """A straight string at rest across a uniform wind carries w = 1/2 rho U^2 Cd d per stretched
     length; 2-point Gauss integrates its consistent nodal loads exactly (the pattern of the
-    gravity weights), and the generalised forces are Z^T of them."""
+    gravity weights), and the generalised forces are Z^T of them.
+    """
     still = compile_scene(_vertical(element=element))
     windy = compile_scene(_vertical(element=element, drag=Drag(0.01), wind=Wind((5.0, 0.0, 0.0))))
     extra = kernels.generalized_forces(0.0, windy.y0, windy.mdl) - kernels.generalized_forces(0.0, still.y0, still.mdl)

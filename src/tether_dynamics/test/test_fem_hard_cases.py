@@ -1,5 +1,6 @@
 """Hard cases for the FEM tether: each stays finite with energy and constraints in bounds,
-or stops with a DivergenceError naming time, element and cause."""
+or stops with a DivergenceError naming time, element and cause.
+"""
 
 from __future__ import annotations
 

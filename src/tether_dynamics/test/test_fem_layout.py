@@ -1,5 +1,6 @@
 """The compiled kernels' positional model layout (ip, fp, mdl) is named once, and the
-builder and the kernels agree on it."""
+builder and the kernels agree on it.
+"""
 
 from __future__ import annotations
 

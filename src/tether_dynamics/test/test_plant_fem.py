@@ -1,6 +1,7 @@
 """The tether plant's finite-element moving reel (tether_dynamics.plant.fem_reel): payout and
 reel-in with an end mass, long payout and back, sinusoidal payout, payout on a heaving and
-rolling boat, settling onto the catenary, and a hovering UAV."""
+rolling boat, settling onto the catenary, and a hovering UAV.
+"""
 
 from __future__ import annotations
 
@@ -41,7 +42,8 @@ def _mass_error(plant: TetherPlant, total: float) -> float:
 
 def test_vertical_payout_and_reel_in_follow_the_hanging_weight() -> None:
     """Reel tension = (m + mu L) g (+ the end body's and tether's inertia while they
-    accelerate) through 2 m/s payout, hold and 2 m/s reel-in, across splits and merges."""
+    accelerate) through 2 m/s payout, hold and 2 m/s reel-in, across splits and merges.
+    """
     plant = _hanging(effects=('damping',), damping=1.0)
     rows = []
     for k in range(1, 1701):
@@ -72,7 +74,8 @@ def test_vertical_payout_and_reel_in_follow_the_hanging_weight() -> None:
 def test_reel_tension_has_no_step_at_splits_and_merges(torque_scale: float, events: int) -> None:
     """Torque-driven payout (0.5 x the holding torque) and reel-in (1.5 x): the largest
     one-step change of the reel tension halves with the step (it is the physical change),
-    through splits or merges."""
+    through splits or merges.
+    """
     steps = {}
     for dt in (2e-4, 1e-4):
         reel = ReelConfig(input='torque', spool_radius=0.1, inertia=0.02, max_length=60.0, min_length=1.0)
@@ -142,7 +145,8 @@ def test_sinusoidal_payout_conserves_mass_and_closes_the_energy_balance() -> Non
 def test_sinusoidal_payout_tension_has_no_step_at_splits_and_merges() -> None:
     """1 m/s amplitude on 0.5 m elements (the tether stays taut; at 2 m/s it goes slack near
     the reel and snaps, whose peaks depend on the step for reasons of their own): the largest
-    one-step change of the reel tension halves with the step through splits and merges."""
+    one-step change of the reel tension halves with the step through splits and merges.
+    """
     coarse, fine = (_sinusoidal(dt, 20.0, 10.0, 0.5)._fem for dt in (2.5e-4, 1.25e-4))
     assert min(coarse.mesh_events()) >= 5
     assert np.min(coarse.tensions()) > 0.0
@@ -174,7 +178,8 @@ def test_payout_on_a_heaving_and_rolling_boat() -> None:
 
 def test_slow_payout_settles_onto_the_catenary() -> None:
     """Both ends held, 2 m paid out slowly, then held: the time-averaged UAV tension and
-    lowest point of N >= 20 elements match the elastic catenary of the final length."""
+    lowest point of N >= 20 elements match the elastic catenary of the final length.
+    """
     uav = np.array([20.0, 0.0, 10.0])
     plant = _sagging(2e-4, element_length=1.0, length=26.0, effects=('drag', 'damping'), damping=1.0)
     plant.step(0.0, PlantInputs(uav_position=uav))

@@ -1,2 +1,3 @@
 """Tether statics (``statics``), finite-element dynamics (``fem``), the tether plant with a
-moving reel (``plant``), and their command-line and plotting code (``commands``)."""
+moving reel (``plant``), and their command-line and plotting code (``commands``).
+"""

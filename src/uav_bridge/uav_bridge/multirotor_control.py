@@ -12,10 +12,9 @@ thrust (N, along body +z) and body torque (N m, FLU) the plant's UAV rigid body 
   ``tau = -K_R e_R - K_W e_W + W x J W`` with ``e_R = vee(R_d^T R - R^T R_d) / 2`` and
   ``e_W = W`` (station keeping: no commanded body rate).
 
-References
-----------
-T. Lee, M. Leok, N. H. McClamroch, "Geometric tracking control of a quadrotor UAV on
-SE(3)", 49th IEEE Conference on Decision and Control, 2010, pp. 5420-5425, Eq. (15)-(16).
+References:
+    T. Lee, M. Leok, N. H. McClamroch, "Geometric tracking control of a quadrotor UAV on
+    SE(3)", 49th IEEE Conference on Decision and Control, 2010, pp. 5420-5425, Eq. (15)-(16).
 """
 
 from __future__ import annotations

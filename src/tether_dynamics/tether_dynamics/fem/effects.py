@@ -16,11 +16,10 @@ from tether_dynamics.fem.errors import FemError
 class Drag:
     """Quadratic air drag on the tether.
 
-    Attributes
-    ----------
-    diameter : m (projected area per length for normal drag; pi * diameter for tangential).
-    cd_normal, cd_tangential : drag coefficients.
-    air_density : kg/m^3.
+    Attributes:
+        diameter: m (projected area per length for normal drag; pi * diameter for tangential).
+        cd_normal, cd_tangential: drag coefficients.
+        air_density: kg/m^3.
     """
 
     diameter: float
@@ -56,9 +55,8 @@ class Wind:
 class KelvinVoigt:
     """Internal damping: tension = EA * strain + coefficient * d(strain)/dt, clamped at 0.
 
-    Attributes
-    ----------
-    coefficient : N s (the 'EA-like' damping constant c of a Kelvin-Voigt element).
+    Attributes:
+        coefficient: N s (the 'EA-like' damping constant c of a Kelvin-Voigt element).
     """
 
     coefficient: float

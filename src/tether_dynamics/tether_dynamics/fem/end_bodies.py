@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import Callable
+from collections.abc import Callable
 
 import numpy as np
 
@@ -16,9 +16,8 @@ Vector = Callable[[np.ndarray], np.ndarray]
 class Pinned:
     """A fixed pivot: the c0 condition removed by model reduction (Sec. 8.3.3).
 
-    Attributes
-    ----------
-    position : (3,) array, m, world frame.
+    Attributes:
+        position: (3,) array, m, world frame.
     """
 
     position: tuple[float, float, float]
@@ -63,10 +62,9 @@ class PrescribedMotion:
 class PointMass:
     """A point mass at the far end (Eq. 7.13 with rho_c = 0).
 
-    Attributes
-    ----------
-    mass : kg
-    force : (3,) constant external force on it, N (e.g. thrust), world frame.
+    Attributes:
+        mass: kg
+        force: (3,) constant external force on it, N (e.g. thrust), world frame.
     """
 
     mass: float
@@ -82,15 +80,14 @@ class PointMass:
 class RigidBody:
     """A rigid body hung at its attachment point with offset centre of mass (Eq. 7.6, 7.13).
 
-    Attributes
-    ----------
-    mass : kg
-    rho_c : (3,) attachment point to centre of mass, body frame, m.
-    inertia : (3, 3) inertia tensor Pi about the attachment point, body frame, kg m^2
-        (Eq. 7.6 needs it about the attachment point: T_rb = ... + 1/2 Omega . Pi Omega).
-    rotation : (3, 3) initial body-to-world rotation R (columns e_b1, e_b2, e_b3).
-    omega : (3,) initial body angular velocity, rad/s.
-    force : (3,) constant external force at the attachment point, N, world frame.
+    Attributes:
+        mass: kg
+        rho_c: (3,) attachment point to centre of mass, body frame, m.
+        inertia: (3, 3) inertia tensor Pi about the attachment point, body frame, kg m^2
+            (Eq. 7.6 needs it about the attachment point: T_rb = ... + 1/2 Omega . Pi Omega).
+        rotation: (3, 3) initial body-to-world rotation R (columns e_b1, e_b2, e_b3).
+        omega: (3,) initial body angular velocity, rad/s.
+        force: (3,) constant external force at the attachment point, N, world frame.
     """
 
     mass: float

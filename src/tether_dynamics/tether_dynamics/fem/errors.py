@@ -10,14 +10,13 @@ class FemError(Exception):
 class DivergenceError(FemError):
     """A time integration left the physical range (NaN, runaway strain).
 
-    Attributes
-    ----------
-    time : float
-        Simulated time (s) of the first step found bad.
-    element : int
-        Index of the element where it was found (-1 if not tied to one).
-    strain : float
-        Largest strain found (may be nan).
+    Attributes:
+        time: float
+            Simulated time (s) of the first step found bad.
+        element: int
+            Index of the element where it was found (-1 if not tied to one).
+        strain: float
+            Largest strain found (may be nan).
     """
 
     def __init__(self, time: float, element: int, strain: float, cause: str) -> None:

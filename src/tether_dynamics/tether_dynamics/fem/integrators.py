@@ -18,13 +18,12 @@ METHODS = {'rk4': kernels.run_rk4, 'verlet': kernels.run_verlet}
 class Trajectory:
     """Recorded states of a run.
 
-    Attributes
-    ----------
-    t : (n,) s.
-    nodes : (n, n_nodes, 3) positions, m.
-    velocities : (n, n_nodes, 3), m/s.
-    omega : (n, 3) end body angular velocity, rad/s (zeros without a rigid body).
-    rotation : (n, 3, 3) end body rotation matrices.
+    Attributes:
+        t: (n,) s.
+        nodes: (n, n_nodes, 3) positions, m.
+        velocities: (n, n_nodes, 3), m/s.
+        omega: (n, 3) end body angular velocity, rad/s (zeros without a rigid body).
+        rotation: (n, 3, 3) end body rotation matrices.
     """
 
     t: np.ndarray
@@ -57,11 +56,9 @@ def simulate(model: Compiled, t_end: float, dt: float, method: str = 'rk4',
              record_every: int = 1, t0: float = 0.0) -> Trajectory:
     """Integrate from t0 to t_end at fixed step dt, recording every ``record_every`` steps.
 
-    Raises
-    ------
-    DivergenceError
-        The state became non-finite or a strain exceeded the scene's strain_limit; the
-        message names the time, the element and the likely cause.
+    Raises:
+        DivergenceError: The state became non-finite or a strain exceeded the scene's strain_limit; the
+            message names the time, the element and the likely cause.
     """
     if method not in METHODS:
         msg = f"method must be one of {sorted(METHODS)}, got {method!r}"

@@ -260,7 +260,8 @@ def _linear_forces(ip, fp, x, v, f):
 def _control_points(y, offset, ip, ends, cp):
     """All N + 2 B-spline control points of a quadratic-element string from the generalised
     coordinates y[offset:] and the kinematic end nodes ``ends`` (x or v): a kinematic end
-    node is the mean of its two control points (:func:`constraints.c1_basis`)."""
+    node is the mean of its two control points (:func:`constraints.c1_basis`).
+    """
     nq = ip[IP_N_Q]
     for i in range(nq):
         for c in range(3):
@@ -338,7 +339,8 @@ def _spline_forces(ip, fp, cp, cv, qf, q):
 @njit(cache=True, _nrt=False)
 def _shape(npe, g, k, l0):
     """Shape function k and its d/ds at Gauss point g (2-point rule) of a linear (npe 2) or
-    quadratic (npe 3) element of length l0."""
+    quadratic (npe 3) element of length l0.
+    """
     if npe == 2:
         z = 0.5 - 0.5 * SQRT3_INV if g == 0 else 0.5 + 0.5 * SQRT3_INV
         if k == 0:
@@ -491,7 +493,8 @@ def _end_body(y, base, ip, fp, pi_m, pi_inv, rho_c, vec, mat):
 def _band_solve(lb, u):
     """Solve M u_new = u in place, M = L L^T with L banded: lb[i, k] = L[i, i - k] for k > 0
     and lb[i, 0] = 1 / L[i, i]. Bandwidth <= 2 (all element types here): the last two
-    solved rows are carried in registers, which keeps the substitution chain short."""
+    solved rows are carried in registers, which keeps the substitution chain short.
+    """
     n, nb = lb.shape
     p0 = p1 = p2 = q0 = q1 = q2 = 0.0
     for i in range(n):
@@ -520,7 +523,8 @@ def _band_solve(lb, u):
 @njit(cache=True, _nrt=False)
 def _nodal_model_forces(y, ip, fp, gload, x, v, f, q):
     """Generalised forces of linear elements (Z = I): the free nodes' gravity, elastic and
-    drag forces into q. Returns :func:`_linear_forces`'s largest length and its element."""
+    drag forces into q. Returns :func:`_linear_forces`'s largest length and its element.
+    """
     f0 = ip[IP_FREE_FIRST]
     _copy_free(y, 0, ip, x)
     if ip[IP_KV_ON] == 1 or ip[IP_DRAG_ON] == 1:
@@ -541,7 +545,8 @@ def _nodal_model_forces(y, ip, fp, gload, x, v, f, q):
 def _spline_model_forces(y, ip, fp, kin_idx, x, v, f, z_cols, z_vals, zt_cols, zt_vals, h_op, q, spline, gq):
     """Generalised forces Z^T F_f of quadratic elements into q: the constant gravity
     Z^T G_f, the elastic forces on the control points (:func:`_spline_forces`), and drag
-    (if on) through the nodes. Returns the largest stretched length and its element."""
+    (if on) through the nodes. Returns the largest stretched length and its element.
+    """
     for i in range(q.shape[0]):
         for c in range(3):
             q[i, c] = gq[i, c]
@@ -659,7 +664,8 @@ def _body_rates(y, dy, base, a_n, fp, pi_inv, rho_c, vec):
 @njit(cache=True)
 def rhs(t, y, dy, mdl):
     """First-order ODE dy/dt (Eq. 8.18 / 8.42): nodes, end body (Eq. 7.13), rotation (Eq. A.8),
-    with moving ends at time t."""
+    with moving ends at time t.
+    """
     _kinematic_of_model(t, mdl)
     _rhs(t, y, dy, *mdl)
 
@@ -678,7 +684,8 @@ def _renormalize(y, ip):
 @njit(cache=True, _nrt=False)
 def _check(y, fp, worst, where):
     """Return (status, element, strain) for the state y, given the largest stretched length
-    ``worst`` and its element from the right-hand side evaluated at y."""
+    ``worst`` and its element from the right-hand side evaluated at y.
+    """
     finite = True
     for i in range(y.size):
         finite &= np.isfinite(y[i])
@@ -693,7 +700,8 @@ def _check(y, fp, worst, where):
 @njit(cache=True, _nrt=False)
 def _check_and_record(y, t, s, rec_every, fp, worst, where, y_rec, t_rec, n_rec):
     """:func:`_check` the state y of step s at time t and, if it passed, record it every
-    ``rec_every`` steps. Returns the check's (status, element, strain) and the new n_rec."""
+    ``rec_every`` steps. Returns the check's (status, element, strain) and the new n_rec.
+    """
     status, e, eps = _check(y, fp, worst, where)
     if status == STATUS_OK and s % rec_every == 0:
         for i in range(y.size):
@@ -823,7 +831,8 @@ def run_verlet(y0, t0, dt, n_steps, rec_every, mdl):
 @njit(cache=True)
 def generalized_forces(t, y, mdl):
     """Generalised forces Z^T F_f (gravity + elastic + drag) of state y, as the right-hand
-    side uses them; for linear elements the free nodes' forces. For tests."""
+    side uses them; for linear elements the free nodes' forces. For tests.
+    """
     _kinematic_of_model(t, mdl)
     if mdl[MDL_IP][IP_ELEMENT] == 1:
         _nodal_model_forces(y, mdl[MDL_IP], mdl[MDL_FP], mdl[MDL_GLOAD], mdl[MDL_X], mdl[MDL_V], mdl[MDL_F],

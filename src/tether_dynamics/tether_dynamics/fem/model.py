@@ -22,15 +22,14 @@ VERLET_STABILITY = 2.0
 class Tether:
     """Material and discretisation of the string (Sec. 7.2, 8.3).
 
-    Attributes
-    ----------
-    length : unstretched length l, m.
-    mu : linear density, kg/m.
-    ea : axial stiffness EA, N.
-    n_elem : number of elements N.
-    element : 'linear' or 'quadratic'.
-    tension_only : True (the thesis's string, Sec. 9.1.2); False makes it a spring that
-        also resists compression, for diagnosing slack-taut effects.
+    Attributes:
+        length: unstretched length l, m.
+        mu: linear density, kg/m.
+        ea: axial stiffness EA, N.
+        n_elem: number of elements N.
+        element: 'linear' or 'quadratic'.
+        tension_only: True (the thesis's string, Sec. 9.1.2); False makes it a spring that
+            also resists compression, for diagnosing slack-taut effects.
     """
 
     length: float
@@ -146,7 +145,7 @@ def compile_scene(scene: Scene, t0: float = 0.0, t1: float = 0.0, sample_dt: flo
     n_all = tet.n_nodes
     l0 = tet.l0
     nodes = np.array(scene.nodes, float)
-    kinematic_ends = [(scene.start, 0)]
+    kinematic_ends: list[tuple[StartEnd | FarEnd, int]] = [(scene.start, 0)]
     far_kinematic = isinstance(scene.far, (Pinned, PrescribedMotion))
     if far_kinematic:
         kinematic_ends.append((scene.far, n_all - 1))
@@ -198,7 +197,7 @@ def compile_scene(scene: Scene, t0: float = 0.0, t1: float = 0.0, sample_dt: flo
         ea=tet.ea, l0=l0, mu=tet.mu, gravity=grav, end_mass=mass, kv_c=kv.coefficient if kv else 0.0,
         air_density=drag.air_density if drag else 0.0, cd_normal=drag.cd_normal if drag else 0.0,
         cd_tangential=drag.cd_tangential if drag else 0.0, diameter=drag.diameter if drag else 0.0,
-        wind_u=wind.velocity if wind else np.zeros(3), wind_z_ref=wind.z_ref if wind else 1.0,
+        wind_u=np.asarray(wind.velocity, float) if wind else np.zeros(3), wind_z_ref=wind.z_ref if wind else 1.0,
         wind_alpha=wind.alpha if wind else 0.0, wind_z_ground=wind.z_ground if wind else 0.0,
         table_t0=t0, table_dt=sample_dt, end_force=force, strain_limit=scene.strain_limit,
         c_last=z[-1] @ w_last)

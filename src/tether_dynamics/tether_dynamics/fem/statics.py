@@ -21,7 +21,7 @@ def _initial_guess(tether: Tether, start: np.ndarray, end: np.ndarray, gdir: np.
     n = tether.n_nodes
     s = np.linspace(0.0, 1.0, n)
     chord = end - start
-    span = np.linalg.norm(chord)
+    span = float(np.linalg.norm(chord))
     extra = max(tether.length * 1.002 - span, 1e-3 * tether.length)
     sag = np.sqrt(3.0 * span * extra / 8.0)
     down = gdir - chord * (gdir @ chord) / (span**2)

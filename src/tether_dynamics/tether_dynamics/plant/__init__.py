@@ -11,47 +11,46 @@ Plain Python (no rclpy); the plant node, the tests and the benchmarks all use th
                                     spool_rate=..., uav_position=..., ...))
     out.tension_reel, out.force_on_uav, out.nodes, ...
 
-Contract
---------
-* :class:`PlantConfig` - fidelity ('quasi_static', 'linear', 'quadratic'), elements, internal
-  step dt, effects ('drag', 'wind', 'damping'), the tether (mass per length kg/m, EA N,
-  diameter m, drag coefficient), guide_way_offset (3,) m in the boat frame, initial_length m,
-  :class:`ReelConfig` (input 'torque' or 'spool_rate', spool radius, inertia, friction,
-  drum capacity and end stops) and :class:`UavConfig` (mode 'prescribed' or 'dynamic', mass,
-  inertia, attach_offset (3,) from the centre of mass, body frame).
-* :class:`PlantInputs` at time t - platform position, quaternion (x, y, z, w; boat -> world),
-  linear and angular velocity (world); reel_torque N m (+ pays out) or spool_rate rad/s
-  (+ pays out); UAV position, quaternion, velocity, body rates (prescribed mode; the initial
-  state in dynamic mode) or thrust N along body +z and body torque N m (dynamic mode); the
-  local sea surface height m (0 when the scene has no waves).
-* :class:`PlantOutputs` - see its docstring: ends, deployed length, payout and spool rate,
-  spool angle, tensions and 3-D forces at both ends (and the moment about the UAV's centre
-  of mass), departure and arrival angles, lowest point with its clearance above the deck
-  (the platform origin's height) and above the sea surface, fouling flag (lowest point at or
-  below the sea), kinetic / potential / strain energy, the motor's work, the conserved total
-  tether mass, node positions and velocities from reel to UAV, element tensions, arc length
-  of the nodes from the guide way, largest strain, and the UAV's state.
+Contract:
+    * :class:`PlantConfig` - fidelity ('quasi_static', 'linear', 'quadratic'), elements, internal
+      step dt, effects ('drag', 'wind', 'damping'), the tether (mass per length kg/m, EA N,
+      diameter m, drag coefficient), guide_way_offset (3,) m in the boat frame, initial_length m,
+      :class:`ReelConfig` (input 'torque' or 'spool_rate', spool radius, inertia, friction,
+      drum capacity and end stops) and :class:`UavConfig` (mode 'prescribed' or 'dynamic', mass,
+      inertia, attach_offset (3,) from the centre of mass, body frame).
+    * :class:`PlantInputs` at time t - platform position, quaternion (x, y, z, w; boat -> world),
+      linear and angular velocity (world); reel_torque N m (+ pays out) or spool_rate rad/s
+      (+ pays out); UAV position, quaternion, velocity, body rates (prescribed mode; the initial
+      state in dynamic mode) or thrust N along body +z and body torque N m (dynamic mode); the
+      local sea surface height m (0 when the scene has no waves).
+    * :class:`PlantOutputs` - see its docstring: ends, deployed length, payout and spool rate,
+      spool angle, tensions and 3-D forces at both ends (and the moment about the UAV's centre
+      of mass), departure and arrival angles, lowest point with its clearance above the deck
+      (the platform origin's height) and above the sea surface, fouling flag (lowest point at or
+      below the sea), kinetic / potential / strain energy, the motor's work, the conserved total
+      tether mass, node positions and velocities from reel to UAV, element tensions, arc length
+      of the nodes from the guide way, largest strain, and the UAV's state.
 
-Frames and signs: ENU ``world``; the boat frame is FLU (REP-103); angles above horizontal
-along the tether from the reel towards the UAV (as ``tether_msgs/TetherState``).
+    Frames and signs: ENU ``world``; the boat frame is FLU (REP-103); angles above horizontal
+    along the tether from the reel towards the UAV (as ``tether_msgs/TetherState``).
 
-Timing: the first ``step`` sets the initial state; each later ``step(t, ...)`` advances
-from the previous call to t in internal steps of at most ``dt``. Kinematic inputs (platform
-pose, prescribed UAV pose) are samples at t, followed between calls by cubic Hermite
-interpolation of position and velocity; commands (reel torque or spool rate, thrust,
-torque) act from the call that gives them until the next one (one call of delay). A
-spool-rate command is reached linearly over that interval from the spool's current rate,
-so a prescribed spool rate stays continuous (no infinite acceleration at the reel).
+    Timing: the first ``step`` sets the initial state; each later ``step(t, ...)`` advances
+    from the previous call to t in internal steps of at most ``dt``. Kinematic inputs (platform
+    pose, prescribed UAV pose) are samples at t, followed between calls by cubic Hermite
+    interpolation of position and velocity; commands (reel torque or spool rate, thrust,
+    torque) act from the call that gives them until the next one (one call of delay). A
+    spool-rate command is reached linearly over that interval from the spool's current rate,
+    so a prescribed spool rate stays continuous (no infinite acceleration at the reel).
 
-Fidelity: 'quasi_static' solves the elastic catenary of the deployed length every internal
-step (:mod:`.quasi_static`); the winch and a dynamic UAV are integrated against its end
-tensions. 'linear' is the finite-element tether with a moving reel (:mod:`.fem_reel`:
-the method, the alternatives measured, the stable step). 'quadratic' is refused with a
-named error: the moving reel has no quadratic elements yet (the fixed-length quadratic
-FEM of :mod:`tether_dynamics.fem` does not change length).
+    Fidelity: 'quasi_static' solves the elastic catenary of the deployed length every internal
+    step (:mod:`.quasi_static`); the winch and a dynamic UAV are integrated against its end
+    tensions. 'linear' is the finite-element tether with a moving reel (:mod:`.fem_reel`:
+    the method, the alternatives measured, the stable step). 'quadratic' is refused with a
+    named error: the moving reel has no quadratic elements yet (the fixed-length quadratic
+    FEM of :mod:`tether_dynamics.fem` does not change length).
 
-Sea surface: ``PlantInputs.sea_surface_height`` is the local wave elevation the scene
-provides (0 without waves); ``clearance_sea`` and ``fouling`` are measured from it.
+    Sea surface: ``PlantInputs.sea_surface_height`` is the local wave elevation the scene
+    provides (0 without waves); ``clearance_sea`` and ``fouling`` are measured from it.
 """
 
 from tether_dynamics.plant.config import PlantConfig, PlantConfigError, ReelConfig, UavConfig

@@ -109,7 +109,8 @@ def body_attach(bs, rho, pos, vel):
 @njit(cache=True)
 def body_step(bs, mass, inertia, inertia_inv, rho, thrust, torque, force, gravity, dt):
     """Advance the UAV by dt under thrust (N, body +z), body torque (N m), gravity (m/s^2,
-    along -z) and the tether force ``force`` (N, world) at the attachment point."""
+    along -z) and the tether force ``force`` (N, world) at the attachment point.
+    """
     q = bs[BS_QUAT:BS_QUAT + 4].copy()
     up = np.array([0.0, 0.0, 1.0])
     thrust_w = np.empty(3)

@@ -38,17 +38,16 @@ def _vector(name: str, value: object, shape: tuple[int, ...] = (3,)) -> np.ndarr
 class ReelConfig:
     """The winch (Eq. 7.26 / 7.42): a drum of radius d and inertia J holding the undeployed tether.
 
-    Attributes
-    ----------
-    input : 'torque' (motor torque in, N m, + pays out; the spool's rate follows from
-        Eq. 7.26) or 'spool_rate' (rad/s, + pays out, prescribed kinematically).
-    spool_radius : d, m; payout rate = d * spool rate.
-    inertia : J_d of the empty drum and motor, kg m^2 (the wound tether adds mu s_d d^2).
-    viscous_friction : N m s/rad, opposing the spool rate.
-    total_length : tether on drum + deployed, m (the drum's capacity); the wound mass
-        mu (total_length - deployed) is the drum's share of the conserved total.
-    min_length, max_length : end stops of the deployed length, m: the spool stops there
-        (rate set to zero) and the stop is reported in the outputs.
+    Attributes:
+        input: 'torque' (motor torque in, N m, + pays out; the spool's rate follows from
+            Eq. 7.26) or 'spool_rate' (rad/s, + pays out, prescribed kinematically).
+        spool_radius: d, m; payout rate = d * spool rate.
+        inertia: J_d of the empty drum and motor, kg m^2 (the wound tether adds mu s_d d^2).
+        viscous_friction: N m s/rad, opposing the spool rate.
+        total_length: tether on drum + deployed, m (the drum's capacity); the wound mass
+            mu (total_length - deployed) is the drum's share of the conserved total.
+        min_length, max_length: end stops of the deployed length, m: the spool stops there
+            (rate set to zero) and the stop is reported in the outputs.
     """
 
     input: str = 'spool_rate'
@@ -78,12 +77,11 @@ class ReelConfig:
 class UavConfig:
     """The UAV end (Eq. 7.44-7.45).
 
-    Attributes
-    ----------
-    mode : 'prescribed' (pose and velocity are inputs) or 'dynamic' (a rigid body driven by
-        thrust along its body z axis (FLU, up) and a body torque, gravity and the tether).
-    mass : kg.  inertia : (3, 3) about the centre of mass, body frame, kg m^2.
-    attach_offset : (3,) centre of mass to the tether attachment point, body (FLU) frame, m.
+    Attributes:
+        mode: 'prescribed' (pose and velocity are inputs) or 'dynamic' (a rigid body driven by
+            thrust along its body z axis (FLU, up) and a body torque, gravity and the tether).
+        mass: kg.  inertia : (3, 3) about the centre of mass, body frame, kg m^2.
+        attach_offset: (3,) centre of mass to the tether attachment point, body (FLU) frame, m.
     """
 
     mode: str = 'prescribed'
@@ -107,27 +105,26 @@ class UavConfig:
 class PlantConfig:
     """Everything a :class:`~tether_dynamics.plant.TetherPlant` needs; see the package docstring.
 
-    Attributes
-    ----------
-    fidelity : 'quasi_static' (elastic catenary solved each step) or 'linear' (finite
-        elements with a moving reel); 'quadratic' is refused by the plant (not implemented
-        for a moving reel).
-    elements : number of finite elements at the initial deployed length (and the number of
-        output points - 1 for the quasi-static fidelity).
-    element_length : nominal element rest length h, m; default initial_length / elements.
-        Elements are split and merged at the reel so the count follows the deployed length.
-    dt : internal step, s (the FEM's explicit step; the quasi-static reel integration step).
-    effects : any of 'drag', 'wind', 'damping' (FEM only; the quasi-static model is static).
-    mass_per_length : mu, kg/m.  ea : axial stiffness EA, N.  diameter : m.
-    drag_coefficient : normal drag coefficient (tangential: 0.008).  air_density : kg/m^3.
-    damping : Kelvin-Voigt coefficient c (tension += c d(strain)/dt), N s.
-    wind : (3,) uniform wind velocity, world frame, m/s.
-    gravity : m/s^2.
-    guide_way_offset : (3,) guide-way position in the boat frame (FLU, from the platform origin), m.
-    initial_length : deployed (unstretched) length at the first step, m.
-    reshape : how the FEM mesh follows the deployed length: 'ale' (this package's method);
-        'last_element', 'uniform', 'insert' are the peers' methods, kept for the benchmark.
-    reel, uav : :class:`ReelConfig`, :class:`UavConfig`.
+    Attributes:
+        fidelity: 'quasi_static' (elastic catenary solved each step) or 'linear' (finite
+            elements with a moving reel); 'quadratic' is refused by the plant (not implemented
+            for a moving reel).
+        elements: number of finite elements at the initial deployed length (and the number of
+            output points - 1 for the quasi-static fidelity).
+        element_length: nominal element rest length h, m; default initial_length / elements.
+            Elements are split and merged at the reel so the count follows the deployed length.
+        dt: internal step, s (the FEM's explicit step; the quasi-static reel integration step).
+        effects: any of 'drag', 'wind', 'damping' (FEM only; the quasi-static model is static).
+        mass_per_length: mu, kg/m.  ea : axial stiffness EA, N.  diameter : m.
+        drag_coefficient: normal drag coefficient (tangential: 0.008).  air_density : kg/m^3.
+        damping: Kelvin-Voigt coefficient c (tension += c d(strain)/dt), N s.
+        wind: (3,) uniform wind velocity, world frame, m/s.
+        gravity: m/s^2.
+        guide_way_offset: (3,) guide-way position in the boat frame (FLU, from the platform origin), m.
+        initial_length: deployed (unstretched) length at the first step, m.
+        reshape: how the FEM mesh follows the deployed length: 'ale' (this package's method);
+            'last_element', 'uniform', 'insert' are the peers' methods, kept for the benchmark.
+        reel, uav: :class:`ReelConfig`, :class:`UavConfig`.
     """
 
     fidelity: str = 'quasi_static'

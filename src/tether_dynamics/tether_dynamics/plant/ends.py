@@ -1,5 +1,6 @@
 """Kinematic ends: the guide way riding on the platform and a prescribed UAV attachment point,
-sampled at each call and followed between calls by cubic Hermite interpolation."""
+sampled at each call and followed between calls by cubic Hermite interpolation.
+"""
 
 from __future__ import annotations
 

@@ -72,7 +72,8 @@ def _hermite(tab, t_a, t_b, t, pos, vel):
 @njit(cache=True)
 def element_tensions(x, v, rest, n, fp, kv_on, u0, out):
     """Tension of each element (elastic + Kelvin-Voigt, zero when slack) into out[:n - 1];
-    element 0's strain rate uses the material velocity u0 at the guide way."""
+    element 0's strain rate uses the material velocity u0 at the guide way.
+    """
     ea, c_kv = fp[FP_EA], fp[FP_KV]
     for e in range(n - 1):
         d0 = x[e + 1, 0] - x[e, 0]
@@ -99,7 +100,8 @@ def element_tensions(x, v, rest, n, fp, kv_on, u0, out):
 def end_forces(x, rest, n, tens, fp, force_reel, force_uav):
     """Forces of the tether on the guide way (the exit tension along the reel element) and on the
     UAV attachment point (the last element's tension plus the weight of the last node's lump,
-    half the last element, which hangs on the UAV)."""
+    half the last element, which hangs on the UAV).
+    """
     e_last = n - 2
     t_exit = exit_tension(x, rest, tens, fp)
     d0 = np.sqrt((x[1, 0] - x[0, 0]) ** 2 + (x[1, 1] - x[0, 1]) ** 2 + (x[1, 2] - x[0, 2]) ** 2)
@@ -143,7 +145,8 @@ def _drag(x, v, n, fp, wind_on, f):
 def energy(x, v, rest, n, fp):
     """Mechanical energy of the deployed tether as the balance counts it (J): kinetic energy
     of the free nodes' lumps, strain energy, and the gravitational energy of every element
-    (exact for the linear field: mu l g (z_a + z_b) / 2)."""
+    (exact for the linear field: mu l g (z_a + z_b) / 2).
+    """
     mu, ea, g = fp[FP_MU], fp[FP_EA], fp[FP_G]
     e_sum = 0.0
     for e in range(n - 1):
@@ -165,7 +168,8 @@ def exit_tension(x, rest, tens, fp):
     """Tension where the tether leaves the guide way (N): the reel element's (uniform)
     tension carried from its midpoint to its start by the weight and inertia of the
     half-element, T(0) = T_0 - mu (g e_z + a . e) l_0 / 2 (e the element's unit vector away
-    from the guide way, a node 1's acceleration in the last step)."""
+    from the guide way, a node 1's acceleration in the last step).
+    """
     d0 = np.sqrt((x[1, 0] - x[0, 0]) ** 2 + (x[1, 1] - x[0, 1]) ** 2 + (x[1, 2] - x[0, 2]) ** 2)
     if tens[0] <= 0.0 or d0 == 0.0:
         return 0.0

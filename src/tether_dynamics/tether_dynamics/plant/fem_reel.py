@@ -89,7 +89,8 @@ def stable_step(config: PlantConfig) -> float:
 def _discrete_equilibrium(x: np.ndarray, rest: np.ndarray, ea: float, mu: float, g: float,
                           iterations: int = 60) -> np.ndarray:
     """Static equilibrium of the lumped chain with both end nodes held: damped Newton on the
-    (convex) potential energy sum 1/2 EA l (|d| / l - 1)^2 (tension only) + sum m g z."""
+    (convex) potential energy sum 1/2 EA l (|d| / l - 1)^2 (tension only) + sum m g z.
+    """
     x = x.copy()
     n = x.shape[0]
     if n < 3:
@@ -280,12 +281,14 @@ class FemTether:
 
     def arc_length(self) -> np.ndarray:
         """(n,) unstretched distance of each node from the guide way along the deployed
-        tether, m (including what a merge still owes the reel element)."""
+        tether, m (including what a merge still owes the reel element).
+        """
         return np.concatenate([[0.0], float(self.fp[fk.FP_OWED]) + np.cumsum(self.rest[:self.n - 1])])
 
     def deployed_rest_length(self) -> float:
         """Deployed tether mass over mu, m: the elements' rest lengths plus what a merge still
-        owes the reel element (material at the guide way, fed back within a second)."""
+        owes the reel element (material at the guide way, fed back within a second).
+        """
         return float(np.sum(self.rest[:self.n - 1])) + float(self.fp[fk.FP_OWED])
 
     def lowest_point(self) -> np.ndarray:
@@ -299,7 +302,8 @@ class FemTether:
     def balance(self) -> dict[str, float]:
         """Energy balance of the deployed tether since the start, J: the energy change, each
         inflow, the residual change - inflows - mesh-change energy, and the throughput (the
-        time integral of the flows' absolute values, the scale the residual is judged on)."""
+        time integral of the flows' absolute values, the scale the residual is judged on).
+        """
         flows = {'ends': self.acc[fk.ACC_ENDS], 'rest_length': self.acc[fk.ACC_REST],
                  'mass_flux': self.acc[fk.ACC_MASS], 'drag': self.acc[fk.ACC_DRAG],
                  'damping': self.acc[fk.ACC_KV], 'reshape': self.acc[fk.ACC_RESHAPE]}

@@ -25,19 +25,18 @@ class PlantInputs:
     rate, UAV thrust and torque) are held from the call that gives them: the ones given at
     t act from t until the next call (one step of explicit delay, deterministic).
 
-    Attributes
-    ----------
-    platform_position : (3,) boat-frame origin in world, m.
-    platform_quaternion : (4,) x, y, z, w; rotates boat-frame vectors into world.
-    platform_velocity : (3,) m/s, world.  platform_angular_velocity : (3,) rad/s, world.
-    reel_torque : N m, + pays out (reel input 'torque').
-    spool_rate : rad/s, + pays out (reel input 'spool_rate').
-    uav_position : (3,) centre of mass, m.  uav_quaternion : (4,) x, y, z, w, body (FLU) -> world.
-    uav_velocity : (3,) m/s.  uav_angular_velocity : (3,) rad/s, body frame.
-        (UAV mode 'prescribed'; in mode 'dynamic' they are the initial state at the first call.)
-    uav_thrust : N along body +z.  uav_torque : (3,) N m, body frame (UAV mode 'dynamic').
-    sea_surface_height : m, the local sea surface elevation under the tether (0 if the
-        scene has no waves); the clearance above the sea is measured from it.
+    Attributes:
+        platform_position: (3,) boat-frame origin in world, m.
+        platform_quaternion: (4,) x, y, z, w; rotates boat-frame vectors into world.
+        platform_velocity: (3,) m/s, world.  platform_angular_velocity : (3,) rad/s, world.
+        reel_torque: N m, + pays out (reel input 'torque').
+        spool_rate: rad/s, + pays out (reel input 'spool_rate').
+        uav_position: (3,) centre of mass, m.  uav_quaternion : (4,) x, y, z, w, body (FLU) -> world.
+        uav_velocity: (3,) m/s.  uav_angular_velocity : (3,) rad/s, body frame.
+            (UAV mode 'prescribed'; in mode 'dynamic' they are the initial state at the first call.)
+        uav_thrust: N along body +z.  uav_torque : (3,) N m, body frame (UAV mode 'dynamic').
+        sea_surface_height: m, the local sea surface elevation under the tether (0 if the
+            scene has no waves); the clearance above the sea is measured from it.
     """
 
     platform_position: np.ndarray = field(default_factory=_zeros)
@@ -59,31 +58,30 @@ class PlantInputs:
 class PlantOutputs:
     """The plant's state after a step: everything ``tether_msgs/TetherState`` and ``TetherNodes`` carry.
 
-    Attributes
-    ----------
-    t : s.  fidelity : 'quasi_static', 'linear' or 'quadratic'.  element_count : elements now.
-    reel_end, uav_end : (3,) tether ends (guide way, UAV attachment point), m.
-    deployed_length : unstretched deployed length, m.  payout_rate : m/s, + out.
-    spool_angle : rad.  spool_rate : rad/s, + pays out.  reel_torque : N m, the motor torque
-        applied (input 'torque') or the one the prescribed rate required (input 'spool_rate').
-    at_stop : the deployed length sits on a reel end stop.
-    tension_reel, tension_uav : N, tether tension at the guide way and at the UAV.
-    force_on_reel : (3,) force of the tether on the guide way, N.
-    force_on_uav, moment_on_uav : (3,) force (N) and moment about the UAV's centre of mass
-        (N m), world frame, that the tether applies to the UAV.
-    departure_angle, arrival_angle : rad, the tether's tangent above horizontal at the reel
-        and at the UAV, pointing from the reel towards the UAV.
-    lowest_point : (3,) m.  clearance_deck : lowest point above the guide way's height
-        (the deck), m.  clearance_sea : lowest point above the sea surface, m.
-    fouling : True when the lowest point is at or below the sea surface.
-    kinetic_energy, potential_energy (gravitational, zero at z = 0), strain_energy : J, of the
-        deployed tether.  reel_work : J, work done by the motor on the spool since the start.
-    total_tether_mass : drum + deployed, kg (conserved).
-    nodes, velocities : (n, 3) from the reel to the UAV, m and m/s.
-    tensions : (n - 1,) per element, N.  arc_length : (n,) unstretched distance of each node
-        from the guide way, m.  max_strain : largest element strain.
-    uav_position, uav_velocity, uav_acceleration : (3,) centre of mass, world.
-    uav_quaternion : (4,) x, y, z, w.  uav_angular_velocity : (3,) body frame, rad/s.
+    Attributes:
+        t: s.  fidelity : 'quasi_static', 'linear' or 'quadratic'.  element_count : elements now.
+        reel_end, uav_end: (3,) tether ends (guide way, UAV attachment point), m.
+        deployed_length: unstretched deployed length, m.  payout_rate : m/s, + out.
+        spool_angle: rad.  spool_rate : rad/s, + pays out.  reel_torque : N m, the motor torque
+            applied (input 'torque') or the one the prescribed rate required (input 'spool_rate').
+        at_stop: the deployed length sits on a reel end stop.
+        tension_reel, tension_uav: N, tether tension at the guide way and at the UAV.
+        force_on_reel: (3,) force of the tether on the guide way, N.
+        force_on_uav, moment_on_uav: (3,) force (N) and moment about the UAV's centre of mass
+            (N m), world frame, that the tether applies to the UAV.
+        departure_angle, arrival_angle: rad, the tether's tangent above horizontal at the reel
+            and at the UAV, pointing from the reel towards the UAV.
+        lowest_point: (3,) m.  clearance_deck : lowest point above the guide way's height
+            (the deck), m.  clearance_sea : lowest point above the sea surface, m.
+        fouling: True when the lowest point is at or below the sea surface.
+        kinetic_energy, potential_energy (gravitational, zero at z = 0), strain_energy : J, of the
+            deployed tether.  reel_work : J, work done by the motor on the spool since the start.
+        total_tether_mass: drum + deployed, kg (conserved).
+        nodes, velocities: (n, 3) from the reel to the UAV, m and m/s.
+        tensions: (n - 1,) per element, N.  arc_length : (n,) unstretched distance of each node
+            from the guide way, m.  max_strain : largest element strain.
+        uav_position, uav_velocity, uav_acceleration: (3,) centre of mass, world.
+        uav_quaternion: (4,) x, y, z, w.  uav_angular_velocity : (3,) body frame, rad/s.
     """
 
     t: float

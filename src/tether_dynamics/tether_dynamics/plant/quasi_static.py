@@ -26,10 +26,9 @@ from tether_dynamics.statics import catenary
 class ElasticCatenary:
     """The solved shape between A (guide way) and B (UAV attachment) in 3-D.
 
-    Attributes
-    ----------
-    solution : the inextensible catenary of the stretched length.
-    stretched_length : L_s, m.  horizontal : (3,) unit horizontal direction A -> B.
+    Attributes:
+        solution: the inextensible catenary of the stretched length.
+        stretched_length: L_s, m.  horizontal : (3,) unit horizontal direction A -> B.
     """
 
     solution: catenary.CatenarySolution
@@ -110,7 +109,8 @@ def end_tensions(a: np.ndarray, b: np.ndarray, length: float, mu: float, ea: flo
                  g: float) -> tuple[float, float, np.ndarray]:
     """Tensions at A and B (N) and the unit tangent at B (away from A): what the winch and
     the UAV body need each internal step, on scalar ``math`` paths (about 100 times faster
-    than :func:`solve`; equal to it to rounding)."""
+    than :func:`solve`; equal to it to rounding).
+    """
     dr, dz, horizontal = _geometry(a, b)
     ls = _stretched_length(dr, dz, length, mu, ea, g)
     mu_s = mu * length / ls

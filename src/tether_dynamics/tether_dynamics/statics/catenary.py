@@ -16,10 +16,9 @@ The slopes at the ends are then ``sinh(m - u)`` at A and ``sinh(m + u)`` at B (E
 and the end tensions ``T = T0 cosh(·)`` (Eq. 3.11, 3.12). Everything is vectorized over
 broadcastable arrays of ``(Δr, Δz, L)``; the vertical hang is the exact limit ``u → ∞``.
 
-References
-----------
-K. Talke, "Hanging Tether Management for Unmanned Air-Surface Vehicle Teams", PhD thesis,
-UC San Diego, 2021, Sec. 3.1.1, Eq. 3.2-3.12.
+References:
+    K. Talke, "Hanging Tether Management for Unmanned Air-Surface Vehicle Teams", PhD thesis,
+    UC San Diego, 2021, Sec. 3.1.1, Eq. 3.2-3.12.
 """
 
 from __future__ import annotations
@@ -147,20 +146,19 @@ class CatenarySolution:
 
     All fields are arrays of the broadcast shape of the inputs.
 
-    Attributes
-    ----------
-    dr, dz, length : horizontal and vertical UAV offset and tether length (m).
-    linear_density : λ (kg/m).  gravity : g (m/s²).
-    u : Δr/(2a), root of Eq. 3.4 (0 taut, inf vertical hang).
-    m : artanh(Δz/L).
-    a : catenary parameter T0/(λ g) (m), Eq. 3.3; 0 for a vertical hang, inf when taut.
-    r0, z0 : shifts of Eq. 3.7 and Eq. 3.8 (vertex at (r0, z0 + a)), NaN when undefined.
-    alpha : departure angle at the reel above the horizontal (rad), Eq. 3.9.
-    beta : arrival angle at the UAV above the horizontal (rad), Eq. 3.9.
-    horizontal_tension : T0 (N).
-    tension_a, tension_b : end tensions at reel and UAV (N), Eq. 3.11, 3.12.
-    lowest_r, lowest_z : the lowest point of the tether (m): the vertex if it lies
-        between the ends, else the lower end.
+    Attributes:
+        dr, dz, length: horizontal and vertical UAV offset and tether length (m).
+        linear_density: λ (kg/m).  gravity : g (m/s²).
+        u: Δr/(2a), root of Eq. 3.4 (0 taut, inf vertical hang).
+        m: artanh(Δz/L).
+        a: catenary parameter T0/(λ g) (m), Eq. 3.3; 0 for a vertical hang, inf when taut.
+        r0, z0: shifts of Eq. 3.7 and Eq. 3.8 (vertex at (r0, z0 + a)), NaN when undefined.
+        alpha: departure angle at the reel above the horizontal (rad), Eq. 3.9.
+        beta: arrival angle at the UAV above the horizontal (rad), Eq. 3.9.
+        horizontal_tension: T0 (N).
+        tension_a, tension_b: end tensions at reel and UAV (N), Eq. 3.11, 3.12.
+        lowest_r, lowest_z: the lowest point of the tether (m): the vertex if it lies
+            between the ends, else the lower end.
     """
 
     dr: np.ndarray
@@ -232,18 +230,15 @@ def solve(dr: np.ndarray | float, dz: np.ndarray | float, length: np.ndarray | f
           gravity: float = GRAVITY) -> CatenarySolution:
     """Solve the catenary for arrays of UAV offsets and tether lengths, Eq. 3.2-3.12.
 
-    Parameters
-    ----------
-    dr : horizontal distance reel → UAV (m), ``≥ 0``.
-    dz : height of the UAV above the reel (m); negative when below.
-    length : tether length (m), at least the chord ``hypot(dr, dz)``.
-    linear_density : λ (kg/m).
-    gravity : g (m/s²).
+    Parameters:
+        dr: horizontal distance reel → UAV (m), ``≥ 0``.
+        dz: height of the UAV above the reel (m); negative when below.
+        length: tether length (m), at least the chord ``hypot(dr, dz)``.
+        linear_density: λ (kg/m).
+        gravity: g (m/s²).
 
-    Raises
-    ------
-    ValueError
-        A length shorter than the chord (no catenary exists), or a negative ``dr``.
+    Raises:
+        ValueError: A length shorter than the chord (no catenary exists), or a negative ``dr``.
     """
     dr, dz, length = np.broadcast_arrays(*(np.asarray(v, dtype=float) for v in (dr, dz, length)))
     shape = dr.shape
@@ -295,7 +290,7 @@ def solve(dr: np.ndarray | float, dz: np.ndarray | float, length: np.ndarray | f
         for field_ in (a, tension_a, tension_b, horizontal_tension):
             field_[taut] = np.inf
         # Vertical hang: the tether doubles down below the lower end (or is straight, L = |Δz|).
-        dzv, lv = dz[vertical], length[vertical]
+        dzv, lv = np.asarray(dz)[vertical], np.asarray(length)[vertical]
         lowest_vert = np.minimum(0.0, dzv) - 0.5 * (lv - np.abs(dzv))
         up, down = dzv == lv, -dzv == lv
         alpha[vertical] = np.where(up, 0.5 * np.pi, -0.5 * np.pi)

@@ -13,15 +13,15 @@ fits the curves and :data:`THESIS_TABLES` holds Tables 3.1-3.3 for comparison. T
 exact (root-found) values of the same quantities come from :mod:`heave_robustness` and
 :func:`min_tension_length`; the sweep's discretization error is their difference.
 
-References
-----------
-K. Talke, PhD thesis, UC San Diego, 2021, Sec. 3.2-3.3, Tables 3.1-3.3, Fig. 3.3-3.8.
+References:
+    K. Talke, PhD thesis, UC San Diego, 2021, Sec. 3.2-3.3, Tables 3.1-3.3, Fig. 3.3-3.8.
 """
 
 from __future__ import annotations
 
 from collections.abc import Callable
 from dataclasses import dataclass, field
+from typing import Any
 
 import numpy as np
 
@@ -199,7 +199,7 @@ def sweep(dx: np.ndarray, dy: np.ndarray, n_lengths: int = N_LENGTHS,
                                   n_lengths, linear_density, gravity))
         if progress is not None:
             progress(min(start + chunk, dx.size), dx.size)
-    merged: dict[str, object] = {}
+    merged: dict[str, Any] = {}
     for key, value in parts[0].items():
         if isinstance(value, list):
             merged[key] = [np.concatenate([p[key][i] for p in parts]) for i in range(len(value))]

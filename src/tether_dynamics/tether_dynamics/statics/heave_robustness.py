@@ -14,9 +14,8 @@ shooting method of Sec. 3.1.2. Here it is a root find along the one-parameter fa
 gives ``L`` and ``Δy₁`` in closed form, and one catenary solve (Eq. 3.4, 3.12) at the
 position lowered by ``Δy₂ = Δy₁`` gives the tension to compare with ``T_rob``.
 
-References
-----------
-K. Talke, PhD thesis, UC San Diego, 2021, Sec. 3.1.2, Fig. 3.2.
+References:
+    K. Talke, PhD thesis, UC San Diego, 2021, Sec. 3.1.2, Fig. 3.2.
 """
 
 from __future__ import annotations
@@ -127,13 +126,12 @@ def upward_heave_limit(dr: np.ndarray, dz: np.ndarray, length: np.ndarray) -> np
 class HeaveRobustness:
     """Heave-robust operating point for a tension rise, Sec. 3.1.2 (arrays, batch shape).
 
-    Attributes
-    ----------
-    length : L_rob (m).
-    heave : equal up/down heave tolerance Δy₁ = Δy₂ (m).
-    slack_length : L_slack (m).  slack_tension : T_slack (N).
-    tension_limit : T_rob = (1 + rise) T_slack (N).
-    nominal : the catenary at the nominal position with length L_rob.
+    Attributes:
+        length: L_rob (m).
+        heave: equal up/down heave tolerance Δy₁ = Δy₂ (m).
+        slack_length: L_slack (m).  slack_tension : T_slack (N).
+        tension_limit: T_rob = (1 + rise) T_slack (N).
+        nominal: the catenary at the nominal position with length L_rob.
     """
 
     length: np.ndarray
@@ -215,7 +213,7 @@ def robust_length_point(dr: float, dz: float, rise: float = 0.05,
         raise ValueError(msg)
     if dr == 0.0:
         return dz, 0.0
-    v_slack = float(inverse_coshc(dz / dr))
+    v_slack = float(inverse_coshc(np.asarray(dz / dr)))
     lg = linear_density * gravity
     t_rob = (1.0 + rise) * lg * dz / (math.tanh(0.5 * v_slack) * math.tanh(v_slack))
 

@@ -29,9 +29,8 @@ returns them there:
 
 ``mode='exact'`` always solves the heave-robust length (about 0.1 ms per point).
 
-References
-----------
-K. Talke, PhD thesis, UC San Diego, 2021, Sec. 4.3, Eq. 4.4-4.5, Fig. 4.3; Table 3.2.
+References:
+    K. Talke, PhD thesis, UC San Diego, 2021, Sec. 4.3, Eq. 4.4-4.5, Fig. 4.3; Table 3.2.
 """
 
 from __future__ import annotations
