@@ -1,4 +1,4 @@
-"""Test double: publishes deterministic messages on a sim-time timer and logs what it sent.
+"""Test double: publishes deterministic messages in lockstep and logs what it sent.
 
 Publishes a custom type (tether_msgs/RelativeEstimate, reliable), a standard sensor type
 (sensor_msgs/Imu, sensor-data QoS) and a latched tether_msgs/UavState. Every published
@@ -17,8 +17,8 @@ from rclpy.duration import Duration
 from rclpy.node import Node
 from sensor_msgs.msg import Imu
 
+from tether_common.lockstep import Lockstep
 from tether_common.node_main import run_node
-from tether_common.sim_timer import SimTimer
 from tether_common.qos import LATCHED
 from tether_common.qos import SENSOR
 from tether_common.qos import STATE
@@ -43,16 +43,17 @@ class TalkerDouble(Node):
         state = UavState(connected=True, armed=False, ready=False, mode='GUIDED')
         self.state_pub.publish(state)
         self._record('/test/uav_state', {'mode': state.mode, 'connected': True})
-        self.timer = SimTimer(self, 1.0 / self.get_parameter('rate').value, self.tick)
+        self.lockstep = Lockstep(self)
+        self.lockstep.every(1.0 / self.get_parameter('rate').value, self.tick)
 
-    def tick(self, now):
-        if self.crash_at > 0 and now.nanoseconds >= self.crash_at * 1e9:
+    def tick(self, tick):
+        if self.crash_at > 0 and tick.time_ns >= self.crash_at * 1e9:
             print('talker_double: crashing on purpose', flush=True)
             self.estimate_pub.wait_for_all_acked(Duration(seconds=5))
             os._exit(3)
         self.count += 1
         estimate = RelativeEstimate()
-        estimate.header.stamp = now.to_msg()
+        estimate.header.stamp = tick.stamp
         estimate.header.frame_id = 'world'
         estimate.dz = 10.0 + 0.001 * self.count
         estimate.dz_rate = -0.5 * self.count
@@ -60,15 +61,15 @@ class TalkerDouble(Node):
         estimate.rejected = self.count % 7
         estimate.rejection_reason = f'reason {self.count}'
         self.estimate_pub.publish(estimate)
-        self._record('/test/estimate', {'stamp': now.nanoseconds, 'dz': estimate.dz, 'dz_rate': estimate.dz_rate,
+        self._record('/test/estimate', {'stamp': tick.time_ns, 'dz': estimate.dz, 'dz_rate': estimate.dz_rate,
                                         'covariance': list(estimate.covariance), 'rejected': estimate.rejected,
                                         'rejection_reason': estimate.rejection_reason})
         imu = Imu()
-        imu.header.stamp = now.to_msg()
+        imu.header.stamp = tick.stamp
         imu.header.frame_id = 'boat'
         imu.linear_acceleration.z = 9.81 + 0.01 * self.count
         self.imu_pub.publish(imu)
-        self._record('/test/imu', {'stamp': now.nanoseconds, 'az': imu.linear_acceleration.z})
+        self._record('/test/imu', {'stamp': tick.time_ns, 'az': imu.linear_acceleration.z})
 
     def _record(self, topic, values):
         if self.log:

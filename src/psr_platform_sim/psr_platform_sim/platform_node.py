@@ -1,8 +1,8 @@
 """ROS 2 node ``platform``: the 3-PSR replicator playing a wave or boat-motion profile.
 
-A thin wrapper around :class:`psr_platform_sim.simulator.PlatformSimulator`: sim-time
-timers (:class:`tether_common.sim_timer.SimTimer`, one call per elapsed tick with the
-tick's own time) sample the precomputed motion and publish
+A thin wrapper around :class:`psr_platform_sim.simulator.PlatformSimulator`: two lockstep
+tasks (:mod:`tether_common.lockstep`; every tick runs once, in order, with its own sim
+time; the node has no inputs) sample the precomputed motion and publish
 
 * ``/platform/state`` (tether_msgs/PlatformState), ``/platform/reel_pose``
   (geometry_msgs/PoseStamped, frame ``world``) and ``/platform/reel_twist``
@@ -29,7 +29,6 @@ import sys
 from geometry_msgs.msg import PoseStamped
 from geometry_msgs.msg import TwistStamped
 from rclpy.node import Node
-from rclpy.time import Time
 from sensor_msgs.msg import Imu
 from tether_msgs.msg import PlatformState
 
@@ -38,12 +37,13 @@ from psr_platform_sim.platform_params import from_params
 from psr_platform_sim.simulator import PlatformSimulator
 from psr_platform_sim.simulator import platform_imu
 from psr_platform_sim.waves import ProfileError
+from tether_common.lockstep import Lockstep
+from tether_common.lockstep import Tick
 from tether_common.node_main import ConfigurationError
 from tether_common.node_main import run_node
 from tether_common.qos import SENSOR
 from tether_common.qos import STATE
 from tether_common.ros_parameters import declare_parameters
-from tether_common.sim_timer import SimTimer
 
 
 class PlatformNode(Node):
@@ -64,8 +64,9 @@ class PlatformNode(Node):
         self.pose_pub = self.create_publisher(PoseStamped, '/platform/reel_pose', STATE)
         self.twist_pub = self.create_publisher(TwistStamped, '/platform/reel_twist', STATE)
         self.imu_pub = self.create_publisher(Imu, '/platform/imu', SENSOR)
-        self.state_timer = SimTimer(self, 1.0 / params['state_rate'], self.state_callback)
-        self.imu_timer = SimTimer(self, 1.0 / params['imu_rate'], self.imu_callback)
+        self.lockstep = Lockstep(self)
+        self.lockstep.every(1.0 / params['state_rate'], self.state_callback)
+        self.lockstep.every(1.0 / params['imu_rate'], self.imu_callback)
         error = self.sim.tracking_error()
         self.get_logger().info(
             f'profile {self.sim.profile_name}: {self.sim.duration:.0f} s, '
@@ -75,10 +76,10 @@ class PlatformNode(Node):
             f'heave {error["heave"] * 1000:.1f} mm, roll {error["roll"] * 57.2958:.3f} deg, '
             f'pitch {error["pitch"] * 57.2958:.3f} deg')
 
-    def state_callback(self, tick: Time) -> None:
+    def state_callback(self, tick: Tick) -> None:
         """Publish /platform/state, /platform/reel_pose and /platform/reel_twist for the tick's sim time."""
-        s = self.sim.sample(tick.nanoseconds * 1e-9)
-        stamp = tick.to_msg()
+        s = self.sim.sample(tick.seconds)
+        stamp = tick.stamp
         msg = PlatformState()
         msg.header.stamp = stamp
         msg.header.frame_id = 'world'
@@ -107,12 +108,12 @@ class PlatformNode(Node):
         w.x, w.y, w.z = (float(c) for c in s.world_angular_velocity)
         self.twist_pub.publish(twist)
 
-    def imu_callback(self, tick: Time) -> None:
+    def imu_callback(self, tick: Tick) -> None:
         """Publish /platform/imu: orientation (truth), noisy angular velocity and specific force."""
-        s = self.sim.sample(tick.nanoseconds * 1e-9)
+        s = self.sim.sample(tick.seconds)
         gyro, accel = self.imu_model.measure(s.angular_velocity, s.specific_force)
         msg = Imu()
-        msg.header.stamp = tick.to_msg()
+        msg.header.stamp = tick.stamp
         msg.header.frame_id = 'boat'
         q = msg.orientation
         q.x, q.y, q.z, q.w = (float(v) for v in s.quaternion)

@@ -1,8 +1,11 @@
 """Run a scene: every node its own OS process, sim time from the bringup, one bag.
 
 Sequence: the recorder starts first and waits until every node of the scene is in the
-graph and subscribed to; then /clock starts, once every node has subscribed to it, so
-the bag holds all topics from the first message. The run ends at the scene's duration,
+graph and subscribed to; then /clock starts, once every node has subscribed to it and
+joined the lockstep, so the bag holds all topics from the first message. /clock advances
+in lockstep (:mod:`tether_bringup.barrier`): the next value is published once every node
+and the recorder have acked the current one, and no sooner than the requested real-time
+factor allows (``rate: max``: as soon as they have). The run ends at the scene's duration,
 on Ctrl-C or SIGTERM, or when a node dies; in every case the nodes are stopped, the
 recorder stops last and finalizes the bag, and no process is left behind.
 """
@@ -26,6 +29,7 @@ from rclpy.signals import SignalHandlerOptions
 from tether_bringup.bag_info import bag_summary_lines
 from tether_bringup.bag_recover import recover_bag
 from tether_bringup.bag_reader import resolve_bag
+from tether_bringup.barrier import Barrier
 from tether_bringup.environment import run_environment
 from tether_bringup.errors import BagError
 from tether_bringup.errors import RunDirectoryError
@@ -33,8 +37,11 @@ from tether_bringup.errors import RunError
 from tether_bringup.processes import ChildProcess
 from tether_bringup.recorder_params import DEFAULT_EXCLUDE
 from tether_bringup.scene import NodeConfig
+from tether_bringup.sim_clock import rate_text
+from tether_common.node_main import make_executor
 
 READY_TIMEOUT = 60.0
+STALL_TIMEOUT = 60.0
 EXTERNAL_READY_TIMEOUT = 600.0
 CLOCK_SUBSCRIBER_TIMEOUT = 30.0
 PROGRESS_PERIOD = 0.5
@@ -79,6 +86,9 @@ def execute(nodes: list[NodeConfig], source, options: RunOptions) -> int:
     wall_start = time.monotonic()
     rclpy.init(signal_handler_options=SignalHandlerOptions.NO)
     node = Node('tethersim')
+    executor = make_executor()
+    executor.add_node(node)
+    barrier = Barrier(node, [f'/{config.name}' for config in nodes] + ['/recorder'])
     try:
         source.attach(node)
         ready_file = out / 'recorder.ready'
@@ -97,13 +107,16 @@ def execute(nodes: list[NodeConfig], source, options: RunOptions) -> int:
         waiting = f' and the external node(s) {", ".join(external)}' if external else ''
         _progress(f'{options.title}: {len(children) - 1} node(s) started, '
                   f'waiting for the recorder{waiting} (ROS_DOMAIN_ID={env["ROS_DOMAIN_ID"]})')
-        _wait_for(lambda: ready_file.exists(), EXTERNAL_READY_TIMEOUT if external else READY_TIMEOUT, children, node,
-                  'the recorder did not subscribe to every node within {:.0f} s')
+        _wait_for(lambda: ready_file.exists(), EXTERNAL_READY_TIMEOUT if external else READY_TIMEOUT, children,
+                  executor, lambda: 'the recorder did not subscribe to every node within {:.0f} s')
         expected = len(nodes) + 1
         _wait_for(lambda: source.clock_publisher.get_subscription_count() >= expected and source.matched(node),
-                  CLOCK_SUBSCRIBER_TIMEOUT, children, node,
-                  'not every node subscribed to /clock and the replayed topics within {:.0f} s')
-        failure = _advance(source, children, node, options.title)
+                  CLOCK_SUBSCRIBER_TIMEOUT, children, executor,
+                  lambda: 'not every node subscribed to /clock and the replayed topics within {:.0f} s')
+        _wait_for(lambda: barrier.reached(0), READY_TIMEOUT, children, executor,
+                  lambda: f'{", ".join(barrier.behind(0))} did not join the lockstep within {{:.0f}} s '
+                          '(a node joins once each of its inputs has a publisher)')
+        failure = _advance(source, barrier, children, executor, options.title)
         if failure:
             status = 1
     except _Stop as stop:
@@ -122,6 +135,7 @@ def execute(nodes: list[NodeConfig], source, options: RunOptions) -> int:
                 child.stop()
         if recorder is not None:
             recorder.stop(timeout=30.0)
+        executor.remove_node(node)
         node.destroy_node()
         rclpy.try_shutdown()
         for sig, handler in previous.items():
@@ -179,20 +193,47 @@ def _check_children(children: list[ChildProcess]) -> None:
             raise RunError(f'node {child.name} died with exit status {code}; last lines of {child.log_path}:\n{tail}')
 
 
-def _wait_for(condition, timeout: float, children, node, message: str) -> None:
+def _wait_for(condition, timeout: float, children, executor, message) -> None:
     deadline = time.monotonic() + timeout
     while not condition():
         _check_children(children)
         if time.monotonic() > deadline:
-            raise RunError(message.format(timeout))
-        rclpy.spin_once(node, timeout_sec=0.05)
+            raise RunError(message().format(timeout))
+        executor.spin_once(timeout_sec=0.05)
 
 
-def _advance(source, children: list[ChildProcess], node, title: str) -> str | None:
+def _wait_for_barrier(barrier: Barrier, time_ns: int, children, executor) -> None:
+    """Spin until every member acked ``time_ns``; fail if none makes progress for STALL_TIMEOUT."""
+    if barrier.reached(time_ns):
+        return
+    acks = barrier.acks
+    last_progress = time.monotonic()
+    while not barrier.reached(time_ns):
+        executor.spin_once(timeout_sec=0.5)
+        if barrier.acks != acks:
+            acks = barrier.acks
+            last_progress = time.monotonic()
+            continue
+        _check_children(children)
+        if time.monotonic() - last_progress > STALL_TIMEOUT:
+            behind = barrier.behind(time_ns)
+            tails = '\n'.join(f'    {line}' for child in children if f'/{child.name}' in behind
+                              for line in child.tail(5))
+            raise RunError(f'lockstep stalled at sim time {time_ns / 1e9:.3f} s: no ack from '
+                           f'{", ".join(behind)} within {STALL_TIMEOUT:.0f} s; last log lines:\n{tails}')
+
+
+def _advance(source, barrier: Barrier, children: list[ChildProcess], executor, title: str) -> str | None:
     next_check = time.monotonic()
     interactive = sys.stderr.isatty()
     last_line = 0.0
-    while source.step():
+    while True:
+        try:
+            _wait_for_barrier(barrier, source.published_ns, children, executor)
+        except RunError as error:
+            return str(error)
+        if not source.step():
+            break
         now = time.monotonic()
         if now >= next_check:
             next_check = now + PROGRESS_PERIOD
@@ -217,7 +258,7 @@ def _summary(options: RunOptions, source, children, wall: float, failure: str | 
     lines = [
         f'{options.title}',
         f'simulated {source.sim_time:.2f} s of {source.duration:.2f} s in {wall:.1f} s wall; '
-        f'achieved real-time factor {source.achieved_rate():.2f} (requested {source.clock.rate:g})',
+        f'achieved real-time factor {source.achieved_rate():.2f} (requested {rate_text(source.clock.rate)})',
     ]
     if failure:
         lines.append(f'ended early: {failure.splitlines()[0]}')

@@ -14,6 +14,7 @@ import time
 from pathlib import Path
 
 from tether_bringup.errors import TethersimError
+from tether_bringup.sim_clock import MAX_RATE
 from tether_common.command_line import Command
 from tether_common.command_line import OneLineParser
 from tether_common.command_line import dispatch
@@ -33,6 +34,10 @@ def _domain(text: str) -> int:
     return value
 
 
+def _rate(text: str) -> float:
+    return MAX_RATE if text == 'max' else positive()(text)
+
+
 def _add_network(parser: argparse.ArgumentParser) -> None:
     parser.add_argument('--domain-id', type=_domain, default=None,
                         help='ROS_DOMAIN_ID of the run (default: a private one in 1-100 reserved for the run)')
@@ -43,7 +48,7 @@ def _add_network(parser: argparse.ArgumentParser) -> None:
 def _run_arguments(run: argparse.ArgumentParser) -> None:
     run.add_argument('scene', nargs='?', default='default', help='scene name (see `tethersim scenes`) or YAML file')
     run.add_argument('--duration', type=positive(), help='sim time to run, s (default: the scene\'s)')
-    run.add_argument('--rate', type=positive(), help='real-time factor (default: the scene\'s)')
+    run.add_argument('--rate', type=_rate, help='real-time factor, or max: as fast as the slowest node (default: the scene\'s)')
     run.add_argument('--out', type=Path, help='run directory (default: runs/<scene>-<time>)')
     _add_network(run)
 
@@ -51,7 +56,7 @@ def _run_arguments(run: argparse.ArgumentParser) -> None:
 def _replay_arguments(replay: argparse.ArgumentParser) -> None:
     replay.add_argument('bag', help='bag file, bag directory or run directory')
     replay.add_argument('--topics', nargs='+', help='replay only these topics')
-    replay.add_argument('--rate', type=positive(), default=1.0, help='real-time factor (default 1)')
+    replay.add_argument('--rate', type=_rate, default=1.0, help='real-time factor, or max (default 1)')
     replay.add_argument('--scene', help='also run the nodes of this scene (e.g. an estimator under test)')
     replay.add_argument('--clock-step', type=positive(), default=0.01, help='s of bag time between /clock ticks')
     replay.add_argument('--out', type=Path, help='run directory (default: runs/replay-<time>)')

@@ -2,8 +2,12 @@
 
 The recorder discovers topics by polling the ROS graph, subscribes to each with the QoS
 its publishers offer (best effort if any publisher is best effort, transient local if all
-are) and ``raw=True``, and writes the CDR bytes untouched. Log and publish times are sim
-time: the latest ``/clock`` received. Once every expected node is in the graph, the graph
+are) and ``raw=True``, and writes the CDR bytes untouched. Log and publish times are the
+message's sim time: its stamp, read from the CDR bytes (:mod:`tether_bringup.cdr_stamp`;
+``header.stamp``, the ``/clock`` value, or the first element's stamp of a message array),
+and the latest ``/clock`` received for a type without one. The recorder is a member of the
+lockstep (:mod:`tether_bringup.barrier`): it acks each ``/clock`` value once it has written
+every message that arrived before it, so the graph cannot run ahead of the bag. Once every expected node is in the graph, the graph
 (nodes, topics, and the publisher and subscription count of each topic) has not changed for
 ``settle_time`` and every recorded subscription has matched all the topic's publishers, it
 writes ``ready_file`` so that the bringup can start the clock: nothing
@@ -12,7 +16,6 @@ published on a sim-time timer is missed.
 
 from __future__ import annotations
 
-import importlib
 import sys
 import time
 from pathlib import Path
@@ -22,23 +25,20 @@ from rclpy.qos import DurabilityPolicy
 from rclpy.qos import HistoryPolicy
 from rclpy.qos import QoSProfile
 from rclpy.qos import ReliabilityPolicy
-from rclpy.serialization import deserialize_message
-from rosgraph_msgs.msg import Clock
+from tether_msgs.msg import LockstepAck
 
 from tether_bringup.bag_writer import BagWriter
 from tether_bringup.bag_writer import QosRecord
+from tether_bringup.cdr_stamp import stamp_reader
 from tether_bringup.recorder_params import PARAMETERS
+from tether_common.lockstep import ACK_TOPIC
+from tether_common.message_types import message_class
 from tether_common.node_main import run_node
+from tether_common.qos import LOCKSTEP_ACK
 from tether_common.ros_parameters import declare_parameters
 
 _RELIABILITY = {ReliabilityPolicy.RELIABLE: 'reliable', ReliabilityPolicy.BEST_EFFORT: 'best_effort'}
 _DURABILITY = {DurabilityPolicy.VOLATILE: 'volatile', DurabilityPolicy.TRANSIENT_LOCAL: 'transient_local'}
-
-
-def message_class(type_name: str):
-    """Import the Python class of ``pkg/msg/Type``."""
-    package, _, name = type_name.split('/')
-    return getattr(importlib.import_module(f'{package}.msg'), name)
 
 
 def qos_record(profile) -> QosRecord:
@@ -85,13 +85,16 @@ class Recorder(Node):
         self._graph_signature = None
         self._ready = False
         self._expected = set(self.params['expected_nodes'])
+        self._exclude = set(self.params['exclude']) | {ACK_TOPIC}
+        self._ack_pub = self.create_publisher(LockstepAck, ACK_TOPIC, LOCKSTEP_ACK)
+        self._ack = LockstepAck(node=self.get_fully_qualified_name())
         self._subscribe('/clock', 'rosgraph_msgs/msg/Clock', [QosRecord(depth=1)], '')
         self.create_timer(self.params['discovery_period'], self.discover)
 
     def discover(self) -> None:
         """Subscribe to new topics; report readiness once the graph has settled."""
         for topic, types in self.get_topic_names_and_types():
-            if topic in self._subscriptions_by_topic or topic in self.params['exclude']:
+            if topic in self._subscriptions_by_topic or topic in self._exclude:
                 continue
             publishers = self.get_publishers_info_by_topic(topic)
             if not publishers or len(types) != 1:
@@ -111,6 +114,7 @@ class Recorder(Node):
             if self._expected <= present and settled and self._matched_every_publisher():
                 self._ready = True
                 Path(self.params['ready_file']).write_text('\n'.join(sorted(self._subscriptions_by_topic)) + '\n')
+                self._acknowledge(0)
 
     def _matched_every_publisher(self) -> bool:
         """True once each recorded topic's subscription has matched every publisher in the graph."""
@@ -126,16 +130,29 @@ class Recorder(Node):
             return
         self.bag.add_topic(topic, type_name, qos, type_hash)
         profile = qos_profile(qos, self.params['queue_depth'])
-        is_clock = topic == '/clock'
+        read_stamp = stamp_reader(type_name)
+        write = self.bag.write
 
-        def on_message(data: bytes) -> None:
-            if is_clock:
-                stamp = deserialize_message(data, Clock).clock
-                self.sim_time_ns = max(self.sim_time_ns, stamp.sec * 1_000_000_000 + stamp.nanosec)
-            self.bag.write(topic, data, self.sim_time_ns)
+        if topic == '/clock':
+            def on_message(data: bytes) -> None:
+                self.sim_time_ns = max(self.sim_time_ns, read_stamp(data))
+                write(topic, data, self.sim_time_ns)
+                if self._ready:
+                    self._acknowledge(self.sim_time_ns)
+        elif read_stamp is None:
+            def on_message(data: bytes) -> None:
+                write(topic, data, self.sim_time_ns)
+        else:
+            def on_message(data: bytes) -> None:
+                stamp = read_stamp(data)
+                write(topic, data, self.sim_time_ns if stamp is None else stamp)
 
         self._subscriptions_by_topic[topic] = self.create_subscription(
             msg_type, topic, on_message, profile, raw=True)
+
+    def _acknowledge(self, time_ns: int) -> None:
+        self._ack.done.sec, self._ack.done.nanosec = divmod(time_ns, 1_000_000_000)
+        self._ack_pub.publish(self._ack)
 
     def destroy_node(self) -> None:
         """Finalize the bag, then destroy the node."""

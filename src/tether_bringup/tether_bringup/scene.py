@@ -4,7 +4,7 @@ A scene is YAML::
 
     description: One line shown by `tethersim scenes`.
     duration: 60.0            # s of sim time
-    rate: 1.0                 # real-time factor (10 = ten times faster than real time)
+    rate: 1.0                 # real-time factor (10 = ten times faster than real time), or max
     clock_step: 0.01          # s of sim time between /clock ticks
     nodes:
       platform:               # node name
@@ -38,13 +38,14 @@ from ament_index_python.packages import get_package_share_directory
 
 from tether_bringup.errors import SceneError
 from tether_bringup.recorder_params import DEFAULT_EXCLUDE
+from tether_bringup.sim_clock import MAX_RATE
 from tether_common.parameters import ParamSpec
 from tether_common.parameters import spec_table
 
 TOP_LEVEL = {
     'description': ParamSpec('description', '', 'One-line description of the scene'),
     'duration': ParamSpec('duration', 60.0, 'Simulated time', 's', 1e-3, 1e7),
-    'rate': ParamSpec('rate', 1.0, 'Real-time factor', '', 1e-3, 1000.0),
+    'rate': ParamSpec('rate', 1.0, 'Real-time factor (or max: as fast as the slowest node)', '', 1e-3, 1000.0),
     'clock_step': ParamSpec('clock_step', 0.01, 'Sim time between /clock ticks', 's', 1e-4, 1.0),
     'nodes': None,
     'record': None,
@@ -142,6 +143,9 @@ def load_scene(path: str | Path) -> Scene:
             if key == 'description':
                 raise fail(key, 'missing (expected a one-line string)')
             values[key] = spec.default
+            continue
+        if key == 'rate' and data[key] == 'max':
+            values[key] = MAX_RATE
             continue
         reason = spec.check(data[key])
         if reason:

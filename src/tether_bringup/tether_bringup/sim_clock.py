@@ -2,7 +2,15 @@
 
 from __future__ import annotations
 
+import math
 import time
+
+MAX_RATE = math.inf
+
+
+def rate_text(rate: float) -> str:
+    """A real-time factor as scenes and the command line write it (``max`` for no pacing)."""
+    return 'max' if math.isinf(rate) else f'{rate:g}'
 
 
 class SimClock:
@@ -11,6 +19,7 @@ class SimClock:
     Tick ``k`` carries sim time ``k * step`` and is due at wall time
     ``start + k * step / rate``. When the publisher falls behind, ticks are released
     immediately until it has caught up, so the achieved rate never exceeds the request.
+    ``rate`` = :data:`MAX_RATE` releases every tick at once (the lockstep barrier paces).
     """
 
     def __init__(self, step: float, rate: float) -> None:

@@ -11,12 +11,10 @@ from rosgraph_msgs.msg import Clock
 
 from tether_bringup.bag_reader import BagMessage
 from tether_bringup.bag_writer import QosRecord
-from tether_bringup.recorder_node import message_class
+from tether_common.message_types import message_class
 from tether_bringup.recorder_node import qos_profile
 from tether_bringup.sim_clock import SimClock
-from tether_common.qos import STATE
-
-CLOCK_QOS = STATE
+from tether_common.qos import CLOCK as CLOCK_QOS
 
 
 def clock_message(time_ns: int) -> Clock:
@@ -49,6 +47,11 @@ class PacedClock:
     @property
     def sim_time(self) -> float:
         return self.clock.sim_time
+
+    @property
+    def published_ns(self) -> int:
+        """The latest /clock value published, ns (0 before the first)."""
+        return round(self.clock.sim_time * 1e9)
 
     def achieved_rate(self) -> float:
         return self.clock.achieved_rate()
@@ -101,6 +104,11 @@ class BagPlayback:
     @property
     def sim_time(self) -> float:
         return max(0, self._now_ns - self.start_ns) / 1e9
+
+    @property
+    def published_ns(self) -> int:
+        """The latest /clock value published, ns (0 before the first)."""
+        return self._now_ns if self.clock.ticks else 0
 
     def achieved_rate(self) -> float:
         return self.clock.achieved_rate()

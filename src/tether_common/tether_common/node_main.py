@@ -1,12 +1,19 @@
 """The one ``main`` every tethersim node uses: init, spin, clean exit.
 
+Nodes spin on rclpy's ``EventsExecutor`` (:func:`make_executor`): it runs callbacks in the
+order their events arrive, and takes and dispatches a message for less CPU time than the
+default ``SingleThreadedExecutor`` (``bench/graph_throughput`` measures both). It is spun
+one event at a time: its ``spin()`` does not return on SIGINT/SIGTERM (rclpy 7.1.6);
+``spin_once`` raises ``ExternalShutdownException`` once the signal has shut rclpy down.
+
 Ctrl-C, SIGTERM and an external shutdown end the node normally (exit status 0), also
 while the node is still being built. A
 :class:`ConfigurationError` raised while the node is built (a bad parameter, a missing
 file), or rclpy's own refusal of a parameter value (a parameter declared without a
 specification, such as ``use_sim_time``), is printed as one line
 ``<program>: error: parameter NAME: expected ..., got VALUE`` and ends the process with
-status 2, without a traceback. So are ``--ros-args`` rcl cannot parse (a list mixing
+status 2, without a traceback; so is a :class:`ConfigurationError` raised while the node
+runs (an input breaking the lockstep's rules). So are ``--ros-args`` rcl cannot parse (a list mixing
 types): rcl's own log line about them is replaced by the one line.
 """
 
@@ -23,19 +30,36 @@ import rclpy
 from rclpy.exceptions import ParameterException
 from rclpy.executors import Executor
 from rclpy.executors import ExternalShutdownException
+from rclpy.executors import SingleThreadedExecutor
+from rclpy.experimental import EventsExecutor
 from rclpy.impl.implementation_singleton import rclpy_implementation
 from rclpy.node import Node
+
+
+SPIN_TIMEOUT = 0.5
+EXECUTOR_VARIABLE = 'TETHERSIM_EXECUTOR'
 
 
 class ConfigurationError(Exception):
     """A node cannot start with the parameters or files it was given."""
 
 
+def make_executor(context=None):
+    """The executor tethersim processes spin their nodes on (``context``: rclpy's default).
+
+    ``TETHERSIM_EXECUTOR=single`` selects rclpy's ``SingleThreadedExecutor`` instead: the
+    baseline ``bench/graph_throughput`` measures in the same run.
+    """
+    if os.environ.get(EXECUTOR_VARIABLE, 'events') == 'single':
+        return SingleThreadedExecutor(context=context)
+    return EventsExecutor(context=context)
+
+
 def run_node(factory: Callable[[], Node], args: list[str] | None = None,
              executor: Callable[[], Executor] | None = None) -> int:
     """Build the node with ``factory`` and spin it until shutdown; return the exit status.
 
-    ``executor`` makes the executor that spins it (default: rclpy's single-threaded one).
+    ``executor`` makes the executor that spins it (default: :func:`make_executor`).
     """
     program = Path(sys.argv[0]).name
     refused = _init(args)
@@ -46,7 +70,10 @@ def run_node(factory: Callable[[], Node], args: list[str] | None = None,
     status = 0
     try:
         node = factory()
-        rclpy.spin(node, executor() if executor is not None else None)
+        executor = executor() if executor is not None else make_executor()
+        executor.add_node(node)
+        while rclpy.ok():
+            executor.spin_once(timeout_sec=SPIN_TIMEOUT)
     except (KeyboardInterrupt, ExternalShutdownException):
         pass
     except (ConfigurationError, ParameterException) as error:

@@ -1,0 +1,137 @@
+"""Lockstep: ticks select inputs by stamp, wait for the message they select, ack, and refuse bad stamps."""
+
+from __future__ import annotations
+
+import time
+
+import pytest
+import rclpy
+from geometry_msgs.msg import PointStamped
+from rclpy.node import Node
+from rclpy.parameter import Parameter
+from rosgraph_msgs.msg import Clock
+from tether_msgs.msg import LockstepAck
+
+from tether_common.lockstep import ACK_TOPIC
+from tether_common.lockstep import Input
+from tether_common.lockstep import Lockstep
+from tether_common.lockstep import LockstepError
+from tether_common.lockstep import _Stream
+from tether_common.lockstep import stamp_ns
+from tether_common.node_main import make_executor
+from tether_common.qos import LOCKSTEP_ACK_READER
+from tether_common.qos import STATE
+
+MS = 1_000_000
+
+
+def _point(time_ns: int, value: float) -> PointStamped:
+    msg = PointStamped()
+    msg.header.stamp.sec, msg.header.stamp.nanosec = divmod(time_ns, 1_000_000_000)
+    msg.point.x = value
+    return msg
+
+
+def test_stream_selects_latest_at_or_before_bound_and_knows_what_is_due():
+    stream = _Stream('/in', PointStamped, 20 * MS)
+    assert stream.ready(19 * MS) and stream.select(19 * MS) is None  # the producer's first stamp is 20 ms
+    assert not stream.ready(20 * MS)
+    stream.add(_point(20 * MS, 1.0))
+    stream.add(_point(40 * MS, 2.0))
+    assert stream.ready(59 * MS) and stream.select(59 * MS).point.x == 2.0
+    assert stream.select(39 * MS).point.x == 1.0
+    assert not stream.ready(60 * MS)
+    stream.prune(45 * MS)
+    assert [stamp for stamp, _ in stream.messages] == [40 * MS]
+    with pytest.raises(LockstepError, match='not a multiple of the declared producer period'):
+        stream.add(_point(50 * MS, 3.0))
+    with pytest.raises(LockstepError, match='arrived after'):
+        stream.add(_point(40 * MS, 3.0))
+
+
+@pytest.fixture
+def context(monkeypatch):
+    monkeypatch.setenv('ROS_AUTOMATIC_DISCOVERY_RANGE', 'LOCALHOST')
+    monkeypatch.setenv('ROS_DOMAIN_ID', str(150 + int(time.time()) % 50))
+    ctx = rclpy.Context()
+    rclpy.init(context=ctx)
+    yield ctx
+    rclpy.shutdown(context=ctx)
+
+
+def _spin_until(executor, condition, timeout=10.0):
+    deadline = time.monotonic() + timeout
+    while not condition() and time.monotonic() < deadline:
+        executor.spin_once(timeout_sec=0.02)
+    return condition()
+
+
+def test_ticks_wait_for_the_input_they_select_and_ack(context):
+    node = Node('stepped', context=context, parameter_overrides=[Parameter('use_sim_time', value=True)])
+    source = Node('source', context=context)
+    clock = source.create_publisher(Clock, '/clock', STATE)
+    inputs = source.create_publisher(PointStamped, '/in', STATE)
+    acks = []
+    source.create_subscription(LockstepAck, ACK_TOPIC, lambda msg: acks.append(stamp_ns(msg.done)),
+                               LOCKSTEP_ACK_READER)
+    ticks = []
+    lockstep = Lockstep(node)
+    lockstep.every(0.01, lambda tick: ticks.append((tick.time_ns, tick.inputs['/in'])),
+                   inputs=[Input('/in', PointStamped, period=0.02, delay=0.0)])
+    executor = make_executor(context)
+    executor.add_node(node)
+    executor.add_node(source)
+    assert _spin_until(executor, lambda: acks == [0])  # joined once /in has a publisher
+    assert _spin_until(executor, lambda: clock.get_subscription_count() >= 2)
+
+    def publish_clock(time_ns):
+        message = Clock()
+        message.clock.sec, message.clock.nanosec = divmod(time_ns, 1_000_000_000)
+        clock.publish(message)
+
+    publish_clock(50 * MS)
+    assert _spin_until(executor, lambda: len(ticks) == 1, timeout=2.0)
+    time.sleep(0.2)
+    executor.spin_once(timeout_sec=0.1)
+    assert [t for t, _ in ticks] == [10 * MS]  # tick 20 ms waits for the input stamped 20 ms
+    assert acks == [0]
+    inputs.publish(_point(20 * MS, 1.0))
+    inputs.publish(_point(40 * MS, 2.0))
+    assert _spin_until(executor, lambda: acks[-1] == 50 * MS)
+    assert [t for t, _ in ticks] == [10 * MS, 20 * MS, 30 * MS, 40 * MS, 50 * MS]
+    assert [None if m is None else m.point.x for _, m in ticks] == [None, 1.0, 1.0, 2.0, 2.0]
+    node.destroy_node()
+    source.destroy_node()
+
+
+def test_a_delayed_input_cycle_needs_no_message_of_the_same_tick(context):
+    node = Node('delayed', context=context, parameter_overrides=[Parameter('use_sim_time', value=True)])
+    source = Node('source', context=context)
+    clock = source.create_publisher(Clock, '/clock', STATE)
+    inputs = source.create_publisher(PointStamped, '/in', STATE)
+    ticks = []
+    lockstep = Lockstep(node)
+    lockstep.every(0.01, lambda tick: ticks.append(tick.inputs['/in']),
+                   inputs=[Input('/in', PointStamped, period=0.01, delay=0.01)])
+    executor = make_executor(context)
+    executor.add_node(node)
+    executor.add_node(source)
+    assert _spin_until(executor, lambda: clock.get_subscription_count() >= 2 and inputs.get_subscription_count() >= 1)
+    inputs.publish(_point(10 * MS, 1.0))
+    message = Clock()
+    message.clock.nanosec = 20 * MS
+    clock.publish(message)
+    assert _spin_until(executor, lambda: len(ticks) == 2)
+    assert ticks[0] is None and ticks[1].point.x == 1.0
+    node.destroy_node()
+    source.destroy_node()
+
+
+def test_an_input_must_be_stamped(context):
+    from std_msgs.msg import Float64
+    node = Node('unstamped', context=context)
+    with pytest.raises(ValueError, match='has no header'):
+        Lockstep(node).every(0.01, lambda tick: None, inputs=[Input('/x', Float64, period=0.01)])
+    with pytest.raises(ValueError, match='period must be positive'):
+        Lockstep(node).every(0.0, lambda tick: None)
+    node.destroy_node()

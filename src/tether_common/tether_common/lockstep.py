@@ -1,0 +1,302 @@
+"""Deterministic lockstep: every node ticks on sim time, selects its inputs by stamp, and acks.
+
+The rules (README, "Writing a node") that make a run's recording the same at any
+real-time factor and under any CPU load:
+
+1. A node's periodic work is a *task* with a period P: it runs at sim times k·P (k ≥ 1),
+   in order, never skipping one, and everything it publishes for tick t carries stamp t.
+2. A task declares its inputs once: topic, type, the *producer's* period and a delay d.
+   At tick t it gets, from each input, the latest message with stamp ≤ t − d, or None when
+   the producer has no tick at or before t − d (its first message has stamp P_producer).
+3. Before running tick t a task waits until each input has delivered the message it will
+   select (its stamp is known: the latest multiple of the producer's period ≤ t − d).
+   Nothing depends on arrival order; a stamp that is not a multiple of the declared period
+   is an error, since the selection would then depend on timing.
+4. After the ticks up to the latest ``/clock`` value have run, the node publishes a
+   :class:`tether_msgs.msg.LockstepAck` on ``/lockstep/ack``; the time master advances
+   ``/clock`` only once every node has acked, so no node runs ahead of the slowest.
+5. A feed-forward edge may have d = 0 (the consumer waits for the producer's message of
+   the same tick). Every cycle of the graph needs d ≥ the producer's period on at least
+   one edge, or it deadlocks: that is the loop's explicit one-step delay.
+6. Randomness comes from a seeded ``numpy.random.Generator`` drawn inside the ticks, whose
+   order is fixed: by sim time, then by the order the tasks were added.
+
+A node's tasks share one :class:`Lockstep`, so their ticks interleave in that fixed order::
+
+    from tether_common.lockstep import Input, Lockstep
+
+    class Controller(Node):
+        def __init__(self):
+            super().__init__('controller')
+            params = declare_parameters(self, PARAMETERS)
+            self.command_pub = self.create_publisher(ReelCommand, '/reel/command', COMMAND)
+            self.lockstep = Lockstep(self)
+            self.lockstep.every(1.0 / params['rate'], self.step, inputs=[
+                Input('/tether/state', TetherState, period=0.01, delay=0.0)])
+
+        def step(self, tick):
+            state = tick.inputs['/tether/state']      # stamp <= tick time, or None
+            command = ReelCommand()
+            command.header.stamp = tick.stamp
+            ...
+            self.command_pub.publish(command)
+
+Inputs are subscribed reliable (a lost message would stall the barrier); their producers
+publish reliable too (:mod:`tether_common.qos`).
+"""
+
+from __future__ import annotations
+
+from collections import deque
+from collections.abc import Callable
+from collections.abc import Sequence
+from dataclasses import dataclass
+from dataclasses import field
+
+from builtin_interfaces.msg import Time as TimeMsg
+from rclpy.clock import Clock
+from rclpy.clock import ClockType
+from rclpy.node import Node
+from rclpy.qos import QoSProfile
+from rosgraph_msgs.msg import Clock as ClockMsg
+from tether_msgs.msg import LockstepAck
+
+from tether_common.message_types import message_class
+from tether_common.node_main import ConfigurationError
+from tether_common.qos import CLOCK
+from tether_common.qos import LOCKSTEP_ACK
+from tether_common.qos import STATE
+
+ACK_TOPIC = '/lockstep/ack'
+JOIN_CHECK_PERIOD = 0.05
+STALL_LOG_PERIOD = 5.0
+NS = 1_000_000_000
+
+
+class LockstepError(ConfigurationError):
+    """An input breaks the lockstep's rules (a stamp off the declared period, out of order)."""
+
+
+@dataclass(frozen=True)
+class Input:
+    """One input of a task.
+
+    ``msg_type`` is the message class or its name (``pkg/msg/Type``); it must have a
+    ``header``. ``period`` is the producer's period in s (its stamps are multiples of it),
+    ``delay`` the input's delay d in s: the task at tick t uses the latest message with
+    stamp ≤ t − d.
+    """
+
+    topic: str
+    msg_type: type | str
+    period: float
+    delay: float = 0.0
+    qos: QoSProfile = field(default_factory=lambda: STATE)
+
+
+@dataclass(frozen=True)
+class Tick:
+    """One tick of a task: its sim time and the inputs selected for it by stamp."""
+
+    time_ns: int
+    inputs: dict
+
+    @property
+    def seconds(self) -> float:
+        """Sim time of the tick, s."""
+        return self.time_ns / NS
+
+    @property
+    def stamp(self) -> TimeMsg:
+        """The tick's sim time as a ``builtin_interfaces/Time`` for ``header.stamp``."""
+        sec, nanosec = divmod(self.time_ns, NS)
+        return TimeMsg(sec=sec, nanosec=nanosec)
+
+
+def period_ns(period: float) -> int:
+    """A period in integer nanoseconds, as producers and consumers must both round it."""
+    if not period > 0:
+        raise ValueError(f'period must be positive, got {period}')
+    return round(period * NS)
+
+
+def stamp_ns(stamp) -> int:
+    """Nanoseconds of a ``builtin_interfaces/Time``."""
+    return stamp.sec * NS + stamp.nanosec
+
+
+class _Stream:
+    """Messages of one input topic, kept by stamp until no task can select them any more."""
+
+    def __init__(self, topic: str, msg_type: type, period: int) -> None:
+        self.topic = topic
+        self.msg_type = msg_type
+        self.period_ns = period
+        self.messages: deque = deque()
+        self.latest_ns = -1
+        self.subscription = None
+
+    def add(self, msg) -> None:
+        stamp = stamp_ns(msg.header.stamp)
+        if stamp % self.period_ns:
+            raise LockstepError(
+                f'input {self.topic}: stamp {stamp / NS:.9f} s is not a multiple of the declared producer period '
+                f'{self.period_ns / NS:g} s (declare the producer\'s period, or stamp messages with their tick time)')
+        if stamp <= self.latest_ns:
+            raise LockstepError(f'input {self.topic}: stamp {stamp / NS:.9f} s arrived after '
+                                f'{self.latest_ns / NS:.9f} s (one message per producer tick, in stamp order)')
+        self.latest_ns = stamp
+        self.messages.append((stamp, msg))
+
+    def expected(self, bound_ns: int) -> int:
+        """Stamp of the message selected at ``bound_ns`` = t − d (0: none is due, producers start at k = 1)."""
+        return max(bound_ns, 0) // self.period_ns * self.period_ns
+
+    def ready(self, bound_ns: int) -> bool:
+        expected = self.expected(bound_ns)
+        return expected == 0 or self.latest_ns >= expected
+
+    def select(self, bound_ns: int):
+        chosen = None
+        for stamp, msg in self.messages:
+            if stamp > bound_ns:
+                break
+            chosen = msg
+        return chosen
+
+    def prune(self, bound_ns: int) -> None:
+        """Forget messages older than the latest one with stamp ≤ ``bound_ns``."""
+        while len(self.messages) > 1 and self.messages[1][0] <= bound_ns:
+            self.messages.popleft()
+
+
+class _Task:
+    def __init__(self, index: int, period: int, callback: Callable[[Tick], None],
+                 inputs: list[tuple[str, _Stream, int]]) -> None:
+        self.index = index
+        self.period_ns = period
+        self.callback = callback
+        self.inputs = inputs
+        self.next_ns = period
+
+    def blocking_input(self) -> tuple[_Stream, int] | None:
+        for _, stream, delay in self.inputs:
+            bound = self.next_ns - delay
+            if not stream.ready(bound):
+                return stream, bound
+        return None
+
+
+class Lockstep:
+    """The lockstep scheduler of one node: its tasks, their inputs, and its acks.
+
+    Create one per node after the node's publishers, add tasks with :meth:`every`. The node
+    joins the run (acks sim time 0) once every input subscription has matched a publisher.
+    """
+
+    def __init__(self, node: Node) -> None:
+        self._node = node
+        self._name = node.get_fully_qualified_name()
+        self._tasks: list[_Task] = []
+        self._streams: dict[str, _Stream] = {}
+        self._clock_ns = 0
+        self._acked_ns = -1
+        self._joined = False
+        self._stalled_at = None
+        self._ack_pub = node.create_publisher(LockstepAck, ACK_TOPIC, LOCKSTEP_ACK)
+        self._clock_sub = node.create_subscription(ClockMsg, '/clock', self._on_clock, CLOCK)
+        steady = Clock(clock_type=ClockType.STEADY_TIME)
+        self._join_timer = node.create_timer(JOIN_CHECK_PERIOD, self._try_join, clock=steady)
+        self._stall_timer = node.create_timer(STALL_LOG_PERIOD, self._log_stall, clock=steady)
+
+    @property
+    def clock_ns(self) -> int:
+        """The latest ``/clock`` value received, ns."""
+        return self._clock_ns
+
+    def every(self, period: float, callback: Callable[[Tick], None], inputs: Sequence[Input] = ()) -> None:
+        """Run ``callback(tick)`` at every multiple k·``period`` (k ≥ 1) of sim time, inputs selected by stamp."""
+        task_inputs = []
+        for spec in inputs:
+            stream = self._stream(spec)
+            delay = round(spec.delay * NS)
+            if delay < 0:
+                raise ValueError(f'input {spec.topic}: delay must not be negative, got {spec.delay}')
+            task_inputs.append((spec.topic, stream, delay))
+        self._tasks.append(_Task(len(self._tasks), period_ns(period), callback, task_inputs))
+
+    def _stream(self, spec: Input) -> _Stream:
+        msg_type = _message_class(spec.msg_type)
+        if 'header' not in msg_type.get_fields_and_field_types():
+            raise ValueError(f'input {spec.topic}: {msg_type.__name__} has no header; lockstep inputs are stamped')
+        stream = self._streams.get(spec.topic)
+        if stream is None:
+            stream = _Stream(spec.topic, msg_type, period_ns(spec.period))
+            stream.subscription = self._node.create_subscription(
+                msg_type, spec.topic, lambda msg: self._on_input(stream, msg), spec.qos)
+            self._streams[spec.topic] = stream
+        elif stream.period_ns != period_ns(spec.period) or stream.msg_type is not msg_type:
+            raise ValueError(f'input {spec.topic}: declared twice with different types or periods')
+        return stream
+
+    def _on_clock(self, msg: ClockMsg) -> None:
+        self._clock_ns = max(self._clock_ns, stamp_ns(msg.clock))
+        self._advance()
+
+    def _on_input(self, stream: _Stream, msg) -> None:
+        stream.add(msg)
+        self._advance()
+
+    def _advance(self) -> None:
+        tasks = self._tasks
+        while tasks:
+            task = min(tasks, key=lambda candidate: (candidate.next_ns, candidate.index))
+            if task.next_ns > self._clock_ns or task.blocking_input() is not None:
+                break
+            tick = Tick(task.next_ns, {topic: stream.select(task.next_ns - delay)
+                                       for topic, stream, delay in task.inputs})
+            task.callback(tick)
+            task.next_ns += task.period_ns
+            self._prune()
+        if self._joined and self._clock_ns > self._acked_ns and all(t.next_ns > self._clock_ns for t in tasks):
+            self._ack(self._clock_ns)
+
+    def _prune(self) -> None:
+        for stream in self._streams.values():
+            bounds = [task.next_ns - delay for task in self._tasks for _, s, delay in task.inputs if s is stream]
+            stream.prune(min(bounds))
+
+    def _ack(self, done_ns: int) -> None:
+        self._acked_ns = done_ns
+        msg = LockstepAck()
+        msg.node = self._name
+        msg.done.sec, msg.done.nanosec = divmod(done_ns, NS)
+        self._ack_pub.publish(msg)
+
+    def _try_join(self) -> None:
+        if all(stream.subscription.get_publisher_count() > 0 for stream in self._streams.values()):
+            self._join_timer.cancel()
+            self._joined = True
+            self._ack(0)
+            self._advance()
+
+    def _log_stall(self) -> None:
+        waiting = None
+        for task in self._tasks:
+            if task.next_ns <= self._clock_ns:
+                blocked = task.blocking_input()
+                if blocked is not None:
+                    stream, bound = blocked
+                    waiting = (task.next_ns, stream.topic, stream.expected(bound), stream.latest_ns)
+                    break
+        if waiting is not None and waiting == self._stalled_at:
+            tick_ns, topic, expected, latest = waiting
+            latest_text = f'{latest / NS:.6f} s' if latest >= 0 else 'none'
+            self._node.get_logger().warning(
+                f'lockstep: tick {tick_ns / NS:.6f} s waits for {topic} stamp {expected / NS:.6f} s '
+                f'(latest received: {latest_text}); is its producer running with the declared period?')
+        self._stalled_at = waiting
+
+
+def _message_class(msg_type: type | str) -> type:
+    return message_class(msg_type) if isinstance(msg_type, str) else msg_type
