@@ -1,8 +1,8 @@
 """ROS 2 node ``plant``: the tether between the reel on the platform and the UAV.
 
 A thin wrapper around :class:`tether_dynamics.plant.TetherPlant` (issue-10 plant core,
-``plant.step(t, inputs) -> outputs``). Every ``1/state_rate`` of sim time it selects its
-inputs by stamp, steps the plant and publishes
+``plant.step(t, inputs) -> outputs``). Every ``1/state_rate`` of sim time, in lockstep
+(:mod:`tether_common.lockstep`), it selects its inputs by stamp, steps the plant and publishes
 
 * ``/tether/state`` (tether_msgs/TetherState) every step,
 * ``/tether/uav_wrench`` (geometry_msgs/WrenchStamped, frame ``world``): force and moment
@@ -17,7 +17,11 @@ Inputs: ``/platform/reel_pose`` (geometry_msgs/PoseStamped, the reel mount in ``
 the guide way is ``guide_way_offset`` from it in the boat frame); ``/uav/pose``
 (geometry_msgs/PoseStamped) when ``uav_source`` is ``topic``; ``/reel/command``
 (tether_msgs/ReelCommand: spool rate, torque or payout rate, ``reel_drive``) when
-``reel_input`` is ``command``. With
+``reel_input`` is ``command``. The platform and UAV inputs are taken at the tick's own
+stamp (delay 0; they are the plant's upstream); the reel command with a delay of one reel
+period (``reel_command_rate``): the command stamped t is the reel's drive over
+[t, t + period], which the plant applies in its step ending at t + period, the explicit
+one-step delay of the loop reel command → plant → tether state → reel. With
 ``reel_input: reference`` the spool follows the catenary reference length of the true
 relative position of the previous step (:class:`tether_dynamics.scripted_reel.ScriptedReel`),
 until the smart reel closes that loop.
@@ -34,20 +38,21 @@ from geometry_msgs.msg import TwistStamped
 from geometry_msgs.msg import Vector3
 from geometry_msgs.msg import WrenchStamped
 from rclpy.node import Node
-from rclpy.time import Time
 from tether_msgs.msg import ReelCommand
 from tether_msgs.msg import RelativePosition
 from tether_msgs.msg import TetherNodes
 from tether_msgs.msg import TetherState
 from visualization_msgs.msg import MarkerArray
 
+from tether_common.lockstep import Input
+from tether_common.lockstep import Lockstep
+from tether_common.lockstep import Tick
 from tether_common.node_main import ConfigurationError
 from tether_common.node_main import run_node
 from tether_common.qos import LOOP
 from tether_common.qos import SENSOR
 from tether_common.qos import STATE
 from tether_common.ros_parameters import declare_parameters
-from tether_common.sim_timer import SimTimer
 from tether_dynamics.plant import PlantConfig
 from tether_dynamics.plant import PlantConfigError
 from tether_dynamics.plant import PlantInputs
@@ -78,36 +83,6 @@ def _divisor(params: dict, name: str) -> int:
         raise ConfigurationError(f'{name} = {params[name]:g} Hz must divide state_rate = '
                                  f'{params["state_rate"]:g} Hz')
     return steps
-
-
-def _stamp_ns(msg) -> int:
-    return msg.header.stamp.sec * 1_000_000_000 + msg.header.stamp.nanosec
-
-
-class StampedInput:
-    """Messages of one input topic by stamp; the latest not newer than a tick is used for it."""
-
-    def __init__(self) -> None:
-        self._messages: list[tuple[int, object]] = []
-
-    def add(self, msg) -> None:
-        """Keep ``msg`` in stamp order."""
-        stamp = _stamp_ns(msg)
-        i = len(self._messages)
-        while i > 0 and self._messages[i - 1][0] > stamp:
-            i -= 1
-        self._messages.insert(i, (stamp, msg))
-
-    def at(self, tick_ns: int):
-        """Return the latest message stamped at or before ``tick_ns`` (older ones are dropped), or None."""
-        chosen = None
-        keep = 0
-        for i, (stamp, msg) in enumerate(self._messages):
-            if stamp > tick_ns:
-                break
-            chosen, keep = msg, i
-        del self._messages[:keep]
-        return chosen
 
 
 def _vector(v) -> np.ndarray:
@@ -159,31 +134,29 @@ class PlantNode(Node):
         self.truth: tuple[float, np.ndarray, np.ndarray] | None = None
         self.deployed = 0.0
         self.command = 0.0
-        self.reel_pose = StampedInput()
-        self.reel_twist = StampedInput()
-        self.uav_pose = StampedInput()
-        self.uav_twist = StampedInput()
-        self.reel_command = StampedInput()
-        self.create_subscription(PoseStamped, '/platform/reel_pose', self.reel_pose.add, STATE)
-        self.create_subscription(TwistStamped, '/platform/reel_twist', self.reel_twist.add, STATE)
+        platform_period = 1.0 / p['platform_rate']
+        inputs = [Input('/platform/reel_pose', PoseStamped, platform_period, 0.0, STATE),
+                  Input('/platform/reel_twist', TwistStamped, platform_period, 0.0, STATE)]
         if p['uav_source'] == 'topic':
-            self.create_subscription(PoseStamped, '/uav/pose', self.uav_pose.add, SENSOR)
-            self.create_subscription(TwistStamped, '/uav/twist', self.uav_twist.add, SENSOR)
+            inputs += [Input('/uav/pose', PoseStamped, 1.0 / p['uav_rate'], 0.0, SENSOR),
+                       Input('/uav/twist', TwistStamped, 1.0 / p['uav_rate'], 0.0, SENSOR)]
         if p['reel_input'] == 'command':
-            self.create_subscription(ReelCommand, '/reel/command', self.reel_command.add, LOOP)
+            command_period = 1.0 / p['reel_command_rate']
+            inputs.append(Input('/reel/command', ReelCommand, command_period, command_period, LOOP))
         self.state_pub = self.create_publisher(TetherState, '/tether/state', STATE)
         self.wrench_pub = self.create_publisher(WrenchStamped, '/tether/uav_wrench', STATE)
         self.truth_pub = self.create_publisher(RelativePosition, '/truth/relative', STATE)
         self.nodes_pub = self.create_publisher(TetherNodes, '/tether/nodes', SENSOR)
         self.markers_pub = self.create_publisher(MarkerArray, '/tether/markers', STATE)
-        self.timer = SimTimer(self, 1.0 / p['state_rate'], self.step_callback)
+        self.lockstep = Lockstep(self)
+        self.lockstep.every(1.0 / p['state_rate'], self.step_callback, inputs)
         self.get_logger().info(
             f'tether plant: {p["fidelity"]}, {p["elements"]} elements, effects {p["effects"] or "none"}, '
             f'{p["state_rate"]:g} Hz; reel input {p["reel_input"]}; UAV {p["uav_source"]}')
 
-    def _inputs(self, tick_ns: int) -> PlantInputs | None:
-        """The plant's inputs for the tick from the latest messages stamped at or before it, or None."""
-        mount, twist = self.reel_pose.at(tick_ns), self.reel_twist.at(tick_ns)
+    def _inputs(self, tick: Tick) -> PlantInputs | None:
+        """The plant's inputs for the tick from the messages the lockstep selected, or None before the first."""
+        mount, twist = tick.inputs['/platform/reel_pose'], tick.inputs['/platform/reel_twist']
         inputs = PlantInputs(sea_surface_height=self.params['sea_level'])
         if mount is None or twist is None:
             return None
@@ -194,7 +167,7 @@ class PlantNode(Node):
         if self.params['uav_source'] == 'fixed':
             inputs.uav_position = np.asarray(self.params['uav_position'], dtype=float)
         else:
-            pose, uav_twist = self.uav_pose.at(tick_ns), self.uav_twist.at(tick_ns)
+            pose, uav_twist = tick.inputs['/uav/pose'], tick.inputs['/uav/twist']
             if pose is None or uav_twist is None:
                 return None
             inputs.uav_position = _vector(pose.pose.position)
@@ -203,14 +176,14 @@ class PlantNode(Node):
             inputs.uav_angular_velocity = _vector(uav_twist.twist.angular)
         return inputs
 
-    def _reel(self, tick_ns: int, inputs: PlantInputs) -> None:
+    def _reel(self, tick: Tick, inputs: PlantInputs) -> None:
         """Set the reel input for the tick: the scripted reel, or the latest /reel/command (held; 0 before the first)."""
         if self.scripted is not None:
             if self.truth is not None:
                 payout = self.scripted.step(self.truth[0], self.truth[1], self.deployed)
                 inputs.spool_rate = payout / self.params['spool_radius']
             return
-        command = self.reel_command.at(tick_ns)
+        command = tick.inputs['/reel/command']
         drive = self.params['reel_drive']
         if command is not None:
             if command.control != REEL_CONTROLS[drive]:
@@ -249,14 +222,13 @@ class PlantNode(Node):
         return point_on_body(inputs.platform_position, rotation, inputs.platform_velocity,
                              inputs.platform_angular_velocity, self.offset)
 
-    def step_callback(self, tick: Time) -> None:
+    def step_callback(self, tick: Tick) -> None:
         """Step the plant to the tick's sim time and publish its outputs."""
-        tick_ns = tick.nanoseconds
-        t = tick_ns * 1e-9
-        inputs = self._inputs(tick_ns)
+        t = tick.seconds
+        inputs = self._inputs(tick)
         if inputs is None:
             return
-        self._reel(tick_ns, inputs)
+        self._reel(tick, inputs)
         if not self.started:
             self._start(inputs)
         try:
@@ -265,7 +237,7 @@ class PlantNode(Node):
             self.get_logger().error(f'plant step at t = {t:.3f} s failed: {error}')
             raise SystemExit(1) from None
         self.deployed = out.deployed_length
-        stamp = tick.to_msg()
+        stamp = tick.stamp
         self._publish_state(stamp, out)
         self._publish_wrench(stamp, out)
         self._publish_truth(stamp, t, inputs, out)

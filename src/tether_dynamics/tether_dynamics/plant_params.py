@@ -69,6 +69,14 @@ PARAMETERS: tuple[ParamSpec, ...] = (
     ParamSpec('uav_position', [3.22, 0.0, 5.9], 'fixed UAV attachment point in world', 'm', read_only=True),
     ParamSpec('uav_attach_offset', [0.0, 0.0, -0.1], 'tether attachment from the UAV centre of mass in its FLU '
               'body frame (uav_source topic)', 'm', read_only=True),
+    ParamSpec('platform_rate', 100.0, 'rate of /platform/reel_pose and /platform/reel_twist: the platform\'s '
+              'state_rate (lockstep input period; used with no delay)', 'Hz', low=1.0, high=1000.0, read_only=True),
+    ParamSpec('uav_rate', 100.0, 'rate of /uav/pose and /uav/twist (uav_source topic; lockstep input period, '
+              'used with no delay: the UAV side takes /tether/uav_wrench one step late)', 'Hz', low=1.0,
+              high=1000.0, read_only=True),
+    ParamSpec('reel_command_rate', 100.0, 'rate of /reel/command (reel_input command); the plant uses the '
+              'command one reel period old: the reel loop\'s one-step delay', 'Hz', low=1.0, high=1000.0,
+              read_only=True),
     ParamSpec('sea_level', -1.5, 'world height of the calm sea surface the clearance and fouling flag are '
               'measured from (waves under the tether are not modelled)', 'm', low=-1000.0, high=1000.0,
               read_only=True),
