@@ -1,9 +1,9 @@
 """ROS 2 node ``reel``: the smart reel on sim time.
 
-A thin wrapper around :class:`smart_reel.reel.ReelCore`. Every ``step`` of sim time
-(:class:`tether_common.sim_timer.SimTimer`, one call per elapsed tick with the tick's own
-time) it selects its inputs by stamp, the latest messages stamped at or before
-``t - input_delay``, steps the core and publishes
+A thin wrapper around :class:`smart_reel.reel.ReelCore`. Every ``step`` of sim time, in
+lockstep (:mod:`tether_common.lockstep`), it selects its inputs by stamp, the latest
+messages stamped at or before ``t - input_delay`` (their producers' periods are
+``tether_state_rate`` and ``relative_rate``), steps the core and publishes
 
 * ``/reel/command`` (tether_msgs/ReelCommand, ``CONTROL_PAYOUT_RATE``) every step: the
   payout the reel's drive made over ``[t, t + step]``, for the plant to impose over the same
@@ -16,10 +16,6 @@ angle, clearances) and the relative position, ``/truth/relative``
 (tether_msgs/RelativePosition, like the thesis's MoCap) or ``/estimate/relative``
 (tether_msgs/RelativeEstimate) as ``relative_source`` says.
 
-Ticks wait for their inputs (``wait_for_inputs``): tick ``t`` runs once both input streams
-have delivered a message stamped at or after ``t - input_delay``, so the reel acts on the
-same inputs however late the plant's messages arrive (it then runs behind ``/clock``).
-
 Loop delay: the tension acting on the drum over ``[t, t + step]`` is the plant's at
 ``t - input_delay`` (one plant step by default), and the plant applies the payout of
 ``[t, t + step]`` after receiving it; why the drive is integrated here and not in the
@@ -28,13 +24,10 @@ plant is in :mod:`smart_reel.winch`.
 
 from __future__ import annotations
 
-import bisect
 import math
 import sys
-from collections import deque
 
 from rclpy.node import Node
-from rclpy.time import Time
 from tether_msgs.msg import ReelCommand
 from tether_msgs.msg import ReelControllerDiagnostics
 from tether_msgs.msg import ReelState
@@ -47,47 +40,18 @@ from smart_reel.reel import ReelInputs
 from smart_reel.reel import ReelOutputs
 from smart_reel.reel import build_core
 from smart_reel.reel_params import PARAMETERS
+from tether_common.lockstep import Input
+from tether_common.lockstep import Lockstep
+from tether_common.lockstep import Tick
+from tether_common.lockstep import stamp_ns
 from tether_common.node_main import ConfigurationError
 from tether_common.node_main import run_node
 from tether_common.qos import LOOP
 from tether_common.qos import STATE
 from tether_common.ros_parameters import declare_parameters
-from tether_common.sim_timer import SimTimer
 
 MODES = {'catenary': ReelState.MODE_CATENARY, 'taut': ReelState.MODE_TAUT, 'locked': ReelState.MODE_LOCKED,
          'fault': ReelState.MODE_FAULT}
-
-
-def _stamp_ns(msg) -> int:
-    return msg.header.stamp.sec * 1_000_000_000 + msg.header.stamp.nanosec
-
-
-class StampedInput:
-    """Messages of one topic kept by stamp; :meth:`at` selects the latest at or before a time."""
-
-    def __init__(self, keep: int = 400) -> None:
-        self.stamps: list[int] = []
-        self.messages: list = []
-        self.keep = keep
-
-    def add(self, msg) -> None:
-        """Insert a message in stamp order (arrival order does not matter)."""
-        stamp = _stamp_ns(msg)
-        i = bisect.bisect_right(self.stamps, stamp)
-        self.stamps.insert(i, stamp)
-        self.messages.insert(i, msg)
-        if len(self.stamps) > self.keep:
-            del self.stamps[0], self.messages[0]
-
-    @property
-    def latest(self) -> int | None:
-        """Stamp (ns) of the newest message, or None."""
-        return self.stamps[-1] if self.stamps else None
-
-    def at(self, time_ns: int):
-        """The latest message stamped at or before ``time_ns``, or None."""
-        i = bisect.bisect_right(self.stamps, time_ns)
-        return self.messages[i - 1] if i else None
 
 
 def relative_inputs(msg, inputs: ReelInputs) -> None:
@@ -114,65 +78,36 @@ class ReelNode(Node):
             raise ConfigurationError(str(error)) from None
         p = self.params
         self.core: ReelCore | None = None
-        self.delay_ns = round(p['input_delay'] * 1e9)
-        self.tether = StampedInput()
-        self.relative = StampedInput()
-        self.pending: deque[Time] = deque()
-        self.create_subscription(TetherState, '/tether/state', self._on_tether, LOOP)
-        if p['relative_source'] == 'truth':
-            self.create_subscription(RelativePosition, '/truth/relative', self._on_relative, LOOP)
-        else:
-            self.create_subscription(RelativeEstimate, '/estimate/relative', self._on_relative, LOOP)
+        self.relative_topic, relative_type = (('/truth/relative', RelativePosition) if p['relative_source'] == 'truth'
+                                              else ('/estimate/relative', RelativeEstimate))
+        inputs = [Input('/tether/state', TetherState, 1.0 / p['tether_state_rate'], p['input_delay'], LOOP),
+                  Input(self.relative_topic, relative_type, 1.0 / p['relative_rate'], p['input_delay'], LOOP)]
         self.command_pub = self.create_publisher(ReelCommand, '/reel/command', LOOP)
         self.state_pub = self.create_publisher(ReelState, '/reel/state', STATE)
         self.diagnostics_pub = self.create_publisher(ReelControllerDiagnostics, '/reel/diagnostics', STATE)
-        self.timer = SimTimer(self, p['step'], self._on_tick)
+        self.lockstep = Lockstep(self)
+        self.lockstep.every(p['step'], self.tick, inputs)
         self.get_logger().info(
             f'smart reel: {p["controller"]} controller, relative position from {p["relative_source"]}, '
             f'step {p["step"]:g} s, control {p["control_rate"]:g} Hz, kp {p["kp"]:g} V/m, kd {p["kd"]:g} V s/m')
 
-    def _on_tether(self, msg: TetherState) -> None:
-        self.tether.add(msg)
-        self._drain()
-
-    def _on_relative(self, msg) -> None:
-        self.relative.add(msg)
-        self._drain()
-
-    def _on_tick(self, tick: Time) -> None:
-        self.pending.append(tick)
-        self._drain()
-
-    def _ready(self, tick_ns: int) -> bool:
-        """Both inputs have reached the stamp tick t uses (``wait_for_inputs``), so t can run."""
-        if not self.params['wait_for_inputs']:
-            return True
-        need = tick_ns - self.delay_ns
-        return all(s.latest is not None and s.latest >= need for s in (self.tether, self.relative))
-
-    def _drain(self) -> None:
-        """Run the pending ticks, in order, as far as their inputs have arrived."""
-        while self.pending and self._ready(self.pending[0].nanoseconds):
-            self.tick(self.pending.popleft())
-
-    def _inputs(self, tick_ns: int) -> tuple[ReelInputs, TetherState | None]:
-        select = tick_ns - self.delay_ns
+    def _inputs(self, tick: Tick) -> tuple[ReelInputs, TetherState | None]:
         inputs = ReelInputs()
-        state = self.tether.at(select)
+        state = tick.inputs['/tether/state']
         if state is not None:
             inputs.tension = state.tension_reel
             inputs.departure_angle = state.departure_angle
             inputs.clearance = min(state.clearance_deck + self.params['guide_height'], state.clearance_sea)
             inputs.plant_length = state.deployed_length
-            inputs.plant_time = _stamp_ns(state) * 1e-9
-        relative = self.relative.at(select)
+            inputs.plant_time = stamp_ns(state.header.stamp) * 1e-9
+        relative = tick.inputs[self.relative_topic]
         if relative is not None:
             relative_inputs(relative, inputs)
         return inputs, state
 
-    def tick(self, tick: Time) -> None:
+    def tick(self, tick: Tick) -> None:
         """Step the reel over ``[t, t + step]`` and publish its command (and state at controller ticks)."""
-        inputs, state = self._inputs(tick.nanoseconds)
+        inputs, state = self._inputs(tick)
         if self.core is None:
             length = self.params['initial_length'] or (state.deployed_length if state is not None else 0.0)
             if length <= 0.0:
@@ -181,8 +116,8 @@ class ReelNode(Node):
                 self.core = build_core(self.params, length)
             except ValueError as error:
                 raise ConfigurationError(str(error)) from None
-        out = self.core.step(tick.nanoseconds * 1e-9, inputs)
-        stamp = tick.to_msg()
+        out = self.core.step(tick.seconds, inputs)
+        stamp = tick.stamp
         command = ReelCommand()
         command.header.stamp = stamp
         command.header.frame_id = 'reel'

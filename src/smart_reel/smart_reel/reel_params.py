@@ -27,6 +27,11 @@ PARAMETERS: tuple[ParamSpec, ...] = (
     ParamSpec('input_delay', 0.01, 'age of the inputs used at a tick: the latest /tether/state and relative '
               'position stamped at or before t - input_delay (one plant step: the loop delay)', 's',
               low=0.0, high=1.0, read_only=True),
+    ParamSpec('tether_state_rate', 100.0, 'rate of /tether/state: the plant\'s state_rate (lockstep input '
+              'period)', 'Hz', low=1.0, high=1000.0, read_only=True),
+    ParamSpec('relative_rate', 100.0, 'rate of the relative-position input: the plant\'s state_rate for '
+              '/truth/relative, the estimator\'s rate for /estimate/relative (lockstep input period)', 'Hz',
+              low=1.0, high=1000.0, read_only=True),
     ParamSpec('sync_gain', 10.0, 'rate at which the commanded payout pulls the plant\'s deployed length onto '
               'the reel\'s (smart_reel.reel)', '1/s', low=0.0, high=1000.0, read_only=True),
     ParamSpec('wait_for_inputs', False, 'run tick t only once /tether/state and the relative position have '

@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import importlib
 import os
+import resource
 import signal
 import sys
 import time
@@ -263,6 +264,8 @@ def _summary(options: RunOptions, source, children, wall: float, failure: str | 
     if failure:
         lines.append(f'ended early: {failure.splitlines()[0]}')
     lines.append(f'{"node":<20} {"exit":>5} {"cpu s":>8} {"peak RSS MB":>12}')
+    own = resource.getrusage(resource.RUSAGE_SELF)
+    lines.append(f'{"tethersim":<20} {"-":>5} {own.ru_utime + own.ru_stime:8.2f} {own.ru_maxrss / 1024:12.1f}')
     for child in children:
         code = '-' if child.returncode is None else str(child.returncode)
         lines.append(f'{child.name:<20} {code:>5} {child.cpu_time:8.2f} {child.peak_rss / 2**20:12.1f}')
