@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import time
 
+import domain_coordinator
 import pytest
 import rclpy
 from geometry_msgs.msg import PointStamped
@@ -52,11 +53,12 @@ def test_stream_selects_latest_at_or_before_bound_and_knows_what_is_due():
 @pytest.fixture
 def context(monkeypatch):
     monkeypatch.setenv('ROS_AUTOMATIC_DISCOVERY_RANGE', 'LOCALHOST')
-    monkeypatch.setenv('ROS_DOMAIN_ID', str(150 + int(time.time()) % 50))
-    ctx = rclpy.Context()
-    rclpy.init(context=ctx)
-    yield ctx
-    rclpy.shutdown(context=ctx)
+    with domain_coordinator.domain_id() as domain:
+        monkeypatch.setenv('ROS_DOMAIN_ID', str(domain))
+        ctx = rclpy.Context()
+        rclpy.init(context=ctx)
+        yield ctx
+        rclpy.shutdown(context=ctx)
 
 
 def _spin_until(executor, condition, timeout=10.0):
