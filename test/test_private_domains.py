@@ -79,6 +79,7 @@ def test_two_runs_at_once_get_their_own_domains_and_no_cross_talk(tmp_path):
         scene['nodes']['talker']['script'] = str(NODES / 'talker_double.py')
         scene['nodes']['listener']['script'] = str(NODES / 'listener_double.py')
         scene['nodes']['talker']['parameters'] = {'rate': rate, 'sent_log': str(tmp_path / f'sent-{name}.jsonl')}
+        scene['nodes']['listener']['parameters'] = {'period': 1.0 / rate, 'estimate_period': 1.0 / rate}
         scene_path = tmp_path / f'scene-{name}.yaml'
         scene_path.write_text(yaml.safe_dump(scene))
         stderr_path = tmp_path / f'stderr-{name}.txt'

@@ -40,3 +40,14 @@ def test_every_installed_scene_is_valid():
     for name, description in scenes:
         assert not description.startswith('(invalid'), (name, description)
         assert load_scene(find_scene(name)).nodes
+
+
+def test_rate_max_means_no_pacing(tmp_path):
+    path = tmp_path / 's.yaml'
+    path.write_text('description: d\nrate: max\nnodes:\n  rec:\n    package: tether_bringup\n'
+                    '    executable: recorder\n')
+    assert load_scene(path).rate == float('inf')
+    path.write_text('description: d\nrate: fastest\nnodes:\n  rec:\n    package: tether_bringup\n'
+                    '    executable: recorder\n')
+    with pytest.raises(SceneError, match='rate: expected a number'):
+        load_scene(path)

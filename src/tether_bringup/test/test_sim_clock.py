@@ -6,7 +6,9 @@ import time
 
 import pytest
 
+from tether_bringup.sim_clock import MAX_RATE
 from tether_bringup.sim_clock import SimClock
+from tether_bringup.sim_clock import rate_text
 
 
 def test_ticks_advance_in_steps():
@@ -28,3 +30,13 @@ def test_achieved_rate_does_not_exceed_request():
 def test_rejects_non_positive_settings():
     with pytest.raises(ValueError):
         SimClock(step=0.0, rate=1.0)
+
+
+def test_max_rate_releases_ticks_at_once(monkeypatch):
+    slept = []
+    monkeypatch.setattr(time, 'sleep', slept.append)
+    clock = SimClock(step=1.0, rate=MAX_RATE)
+    for _ in range(100):
+        clock.next_tick()
+    assert clock.sim_time == 100.0 and slept == []
+    assert rate_text(MAX_RATE) == 'max' and rate_text(20.0) == '20'
