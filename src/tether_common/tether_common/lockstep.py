@@ -47,6 +47,8 @@ publish reliable too (:mod:`tether_common.qos`).
 
 from __future__ import annotations
 
+import os
+import time
 from collections import deque
 from collections.abc import Callable
 from collections.abc import Sequence
@@ -68,7 +70,9 @@ from tether_common.qos import LOCKSTEP_ACK
 from tether_common.qos import STATE
 
 ACK_TOPIC = '/lockstep/ack'
+NODES_VARIABLE = 'TETHERSIM_NODES'
 JOIN_CHECK_PERIOD = 0.05
+JOIN_SETTLE = 0.5
 STALL_LOG_PERIOD = 5.0
 NS = 1_000_000_000
 
@@ -191,7 +195,9 @@ class Lockstep:
     """The lockstep scheduler of one node: its tasks, their inputs, and its acks.
 
     Create one per node after the node's publishers, add tasks with :meth:`every`. The node
-    joins the run (acks sim time 0) once every input subscription has matched a publisher.
+    joins the run (acks sim time 0) once the run's nodes are in the graph, every input
+    subscription has matched a publisher and each of its publishers has matched every
+    subscription of its topic in the graph (:meth:`_try_join`).
     """
 
     def __init__(self, node: Node) -> None:
@@ -203,6 +209,8 @@ class Lockstep:
         self._acked_ns = -1
         self._joined = False
         self._stalled_at = None
+        self._ready_since = None
+        self._expected_nodes = {name for name in os.environ.get(NODES_VARIABLE, '').split(',') if name}
         self._ack_pub = node.create_publisher(LockstepAck, ACK_TOPIC, LOCKSTEP_ACK)
         self._clock_sub = node.create_subscription(ClockMsg, '/clock', self._on_clock, CLOCK)
         steady = Clock(clock_type=ClockType.STEADY_TIME)
@@ -274,7 +282,23 @@ class Lockstep:
         self._ack_pub.publish(msg)
 
     def _try_join(self) -> None:
-        if all(stream.subscription.get_publisher_count() > 0 for stream in self._streams.values()):
+        """Join once every node of the run is in the graph (``TETHERSIM_NODES``, set by the bringup),
+        every input has a publisher and every publisher of the node has matched every subscription
+        the graph shows, all unchanged for ``JOIN_SETTLE``: no message of the first ticks is
+        published before its subscribers are matched."""
+        node = self._node
+        present = {name for name, _ in node.get_node_names_and_namespaces()}
+        ready = self._expected_nodes <= present and all(
+            stream.subscription.get_publisher_count() > 0 for stream in self._streams.values()) and all(
+            publisher.get_subscription_count() >= node.count_subscribers(publisher.topic_name)
+            for publisher in node.publishers)
+        now = time.monotonic()
+        if not ready:
+            self._ready_since = None
+            return
+        if self._ready_since is None:
+            self._ready_since = now
+        if now - self._ready_since >= JOIN_SETTLE:
             self._join_timer.cancel()
             self._joined = True
             self._ack(0)
