@@ -91,7 +91,7 @@ def execute(nodes: list[NodeConfig], source, options: RunOptions) -> int:
     node = Node('tethersim')
     executor = make_executor()
     executor.add_node(node)
-    barrier = Barrier(node, [f'/{config.name}' for config in nodes] + ['/recorder'])
+    barrier = Barrier(node, [f'/{config.name}' for config in nodes if config.lockstep] + ['/recorder'])
     try:
         source.attach(node)
         ready_file = out / 'recorder.ready'

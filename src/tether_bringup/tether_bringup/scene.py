@@ -12,6 +12,8 @@ A scene is YAML::
         executable: platform  # or `script: path/to/node.py`, relative to the scene file
         parameters: {...}     # validated against <package>/<executable>_params.py
         external: false       # true: started elsewhere (another machine), waited for, not started
+        lockstep: true        # false: a node outside the lockstep barrier (driven by wall time or an
+                              # external simulator, e.g. ArduPilot SITL); the run is then not reproducible
     record:
       exclude: [/rosout, /parameter_events]
     reports:
@@ -51,7 +53,7 @@ TOP_LEVEL = {
     'record': None,
     'reports': ParamSpec('reports', [], 'Report functions module:function', item_type=str),
 }
-NODE_KEYS = ('package', 'executable', 'script', 'parameters', 'external')
+NODE_KEYS = ('package', 'executable', 'script', 'parameters', 'external', 'lockstep')
 RECORD_KEYS = {'exclude': ParamSpec('exclude', [], 'Topics not recorded', item_type=str)}
 
 
@@ -65,6 +67,7 @@ class NodeConfig:
     package: str = ''
     executable: str = ''
     external: bool = False
+    lockstep: bool = True
 
 
 @dataclass
@@ -193,6 +196,9 @@ def _node_config(path: Path, name: object, settings: object, fail) -> NodeConfig
     if not isinstance(parameters, dict):
         raise fail(f'{key}.parameters', 'expected a mapping of parameter names to values')
     external = settings.get('external', False)
+    lockstep = settings.get('lockstep', True)
+    if not isinstance(lockstep, bool):
+        raise fail(f'{key}.lockstep', f'expected true or false, got {lockstep!r}')
     if not isinstance(external, bool):
         raise fail(f'{key}.external', f'expected true or false, got {external!r}')
 
@@ -209,7 +215,7 @@ def _node_config(path: Path, name: object, settings: object, fail) -> NodeConfig
             if not _is_ros_value(value):
                 raise fail(f'{key}.parameters.{parameter}', f'not a ROS parameter value: {value!r}')
         return NodeConfig(name=name, command=[sys.executable, str(script_path)], parameters=parameters,
-                          external=external)
+                          external=external, lockstep=lockstep)
 
     for required in ('package', 'executable'):
         if not isinstance(settings.get(required), str):
@@ -221,7 +227,7 @@ def _node_config(path: Path, name: object, settings: object, fail) -> NodeConfig
         if not external:
             raise fail(f'{key}.package', f'package {package!r} is not installed') from None
         return NodeConfig(name=name, command=[], parameters=parameters, package=package,
-                          executable=executable, external=True)
+                          executable=executable, external=True, lockstep=lockstep)
     program = prefix / 'lib' / package / executable
     if not program.is_file():
         raise fail(f'{key}.executable', f'package {package} has no executable {executable!r}')
@@ -241,7 +247,7 @@ def _node_config(path: Path, name: object, settings: object, fail) -> NodeConfig
             raise fail(f'{key}.parameters.{parameter}', reason)
         validated[parameter] = spec.coerce(value)
     return NodeConfig(name=name, command=[str(program)], parameters=validated,
-                      package=package, executable=executable, external=external)
+                      package=package, executable=executable, external=external, lockstep=lockstep)
 
 
 def _parameter_specs(package: str, executable: str) -> tuple[ParamSpec, ...] | None:

@@ -36,7 +36,8 @@ from tether_common.qos import LATCHED
 from tether_common.qos import SENSOR
 from tether_common.qos import STATE
 from tether_common.ros_parameters import declare_parameters
-from tether_common.sim_timer import SimTimer
+from tether_common.lockstep import Lockstep
+from tether_common.lockstep import Tick
 from uav_bridge.builtin_uav import BuiltinUav
 from uav_bridge.builtin_uav import BuiltinUavConfig
 from uav_bridge.builtin_uav_params import PARAMETERS
@@ -76,7 +77,8 @@ class BuiltinUavNode(Node):
         self.create_service(Trigger, '/uav/land', self.land_callback)
         self._last_state: tuple | None = None
         self._next_state_ns = 0
-        self.timer = SimTimer(self, 1.0 / params['rate'], self.step)
+        self.lockstep = Lockstep(self)
+        self.lockstep.every(1.0 / params['rate'], self.step)
         self.get_logger().info(f'built-in UAV: {params["mass"]:g} kg at {params["start"]} m in world, '
                                f'{params["rate"]:g} Hz')
 
@@ -96,10 +98,10 @@ class BuiltinUavNode(Node):
         del self.wrench_stamps[:index - 1], self.wrench_forces[:index - 1]
         return force
 
-    def step(self, tick: Time) -> None:
+    def step(self, tick: Tick) -> None:
         """Advance the body to the tick and publish it."""
-        state = self.uav.step(tick.nanoseconds * 1e-9, self._force_for(tick.nanoseconds))
-        stamp = tick.to_msg()
+        state = self.uav.step(tick.time_ns * 1e-9, self._force_for(tick.time_ns))
+        stamp = tick.stamp
         rotation = Rotation.from_quat(state.quaternion)
         pose = PoseStamped()
         pose.header.stamp, pose.header.frame_id = stamp, 'world'
@@ -120,9 +122,9 @@ class BuiltinUavNode(Node):
         fill_vector(imu.linear_acceleration, rotation.inv().apply(specific_force))
         self.imu_pub.publish(imu)
         key = (state.armed, state.mode)
-        if key != self._last_state or tick.nanoseconds >= self._next_state_ns:
+        if key != self._last_state or tick.time_ns >= self._next_state_ns:
             self._last_state = key
-            self._next_state_ns = tick.nanoseconds + 1_000_000_000
+            self._next_state_ns = tick.time_ns + 1_000_000_000
             msg = UavState()
             msg.header.stamp = stamp
             msg.connected, msg.armed, msg.mode, msg.position_ready = True, state.armed, state.mode, True

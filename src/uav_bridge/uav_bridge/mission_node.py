@@ -1,7 +1,7 @@
 """ROS 2 node ``mission``: take off, hold station over the boat, land (thesis Sec. 5.3, 5.4).
 
 A thin wrapper around :class:`uav_bridge.mission.MissionLogic`, stepped by a sim-time timer
-(:class:`tether_common.sim_timer.SimTimer`) at ``rate``. It reads ``/uav/state`` and
+(lockstep ticks, :mod:`tether_common.lockstep`) at ``rate``. It reads ``/uav/state`` and
 ``/uav/pose`` (from the MAVLink bridge or the built-in UAV) and ``/reel/state``; it asks the
 UAV through the services ``/uav/set_mode``, ``/uav/arm``, ``/uav/takeoff``, ``/uav/land``
 (one request at a time, the answer fed to the next step), publishes the station on
@@ -20,7 +20,6 @@ import sys
 import numpy as np
 from geometry_msgs.msg import PoseStamped
 from rclpy.node import Node
-from rclpy.time import Time
 from std_srvs.srv import SetBool
 from std_srvs.srv import Trigger
 from tether_msgs.msg import MissionState
@@ -36,7 +35,8 @@ from tether_common.qos import LATCHED
 from tether_common.qos import SENSOR
 from tether_common.qos import STATE
 from tether_common.ros_parameters import declare_parameters
-from tether_common.sim_timer import SimTimer
+from tether_common.lockstep import Lockstep
+from tether_common.lockstep import Tick
 from uav_bridge.mission import Inputs
 from uav_bridge.mission import MissionConfig
 from uav_bridge.mission import MissionLogic
@@ -73,7 +73,8 @@ class MissionNode(Node):
                                     lambda v: Takeoff.Request(altitude=float(v))),
                         'land': (self.create_client(Trigger, '/uav/land'), lambda v: Trigger.Request())}
         self._published = None
-        self.timer = SimTimer(self, 1.0 / params['rate'], self.step)
+        self.lockstep = Lockstep(self)
+        self.lockstep.every(1.0 / params['rate'], self.step)
         station = self.logic.station
         self.get_logger().info(f'mission: station {station[2]:g} m up, {math.hypot(*station[:2]):g} m radial '
                                f'(Δr/Δz {math.hypot(*station[:2]) / station[2]:.2f}) in world')
@@ -96,7 +97,7 @@ class MissionNode(Node):
         elif self.abort_tension > 0.0 and msg.tension_estimate > self.abort_tension:
             self.reel_fault = f'tension estimate {msg.tension_estimate:.1f} N > {self.abort_tension:g} N'
 
-    def step(self, tick: Time) -> None:
+    def step(self, tick: Tick) -> None:
         """One mission step at the tick's sim time."""
         state = self.uav_state
         inputs = Inputs(
@@ -105,12 +106,12 @@ class MissionNode(Node):
             mode=state.mode if state else '', position=self.position, reel_fault=self.reel_fault,
             busy=self.pending is not None, answer=self.answer)
         self.answer = None
-        out = self.logic.step(tick.nanoseconds * 1e-9, inputs)
+        out = self.logic.step(tick.time_ns * 1e-9, inputs)
         if out.request is not None:
             self._request(*out.request)
         if out.setpoint is not None:
             msg = PoseStamped()
-            msg.header.stamp, msg.header.frame_id = tick.to_msg(), 'world'
+            msg.header.stamp, msg.header.frame_id = tick.stamp, 'world'
             msg.pose.position.x, msg.pose.position.y, msg.pose.position.z = (float(v) for v in out.setpoint)
             msg.pose.orientation.w = 0.0
             self.setpoint_pub.publish(msg)
@@ -118,7 +119,7 @@ class MissionNode(Node):
             self._published = (out.phase, out.reason)
             self.get_logger().info(f'mission phase {out.phase}' + (f': {out.reason}' if out.reason else ''))
             msg = MissionState()
-            msg.header.stamp = tick.to_msg()
+            msg.header.stamp = tick.stamp
             msg.phase, msg.reason, msg.aborted = out.phase, out.reason, self.logic.aborted
             msg.station.x, msg.station.y, msg.station.z = (float(v) for v in self.logic.station)
             self.state_pub.publish(msg)
