@@ -22,7 +22,6 @@ import math
 import sys
 
 from rclpy.node import Node
-from rclpy.time import Time
 from sensor_msgs.msg import Imu
 from tether_msgs.msg import DgpsFix
 from tether_msgs.msg import FixRejection
@@ -42,7 +41,8 @@ from tether_common.node_main import ConfigurationError
 from tether_common.node_main import run_node
 from tether_common.qos import STATE
 from tether_common.ros_parameters import declare_parameters
-from tether_common.sim_timer import SimTimer
+from tether_common.lockstep import Lockstep
+from tether_common.lockstep import Tick
 
 
 class EstimatorNode(Node):
@@ -69,7 +69,8 @@ class EstimatorNode(Node):
         self.estimate_pub = self.create_publisher(RelativeEstimate, '/estimate/relative', STATE)
         self.foh_pub = self.create_publisher(RelativeEstimate, '/estimate/foh', STATE)
         self.rejection_pub = self.create_publisher(FixRejection, '/estimate/rejections', STATE)
-        self.timer = SimTimer(self, self.period_ns * 1e-9, self.on_tick)
+        self.lockstep = Lockstep(self)
+        self.lockstep.every(self.period_ns * 1e-9, self.on_tick)
 
     def on_imu(self, buffer: dict[int, float], msg: Imu) -> None:
         """Keep an IMU sample's vertical acceleration by stamp."""
@@ -82,13 +83,13 @@ class EstimatorNode(Node):
         """Keep a fix until the filter reaches its arrival stamp."""
         self.fixes.append(fix_from_message(msg))
 
-    def on_tick(self, tick: Time) -> None:
+    def on_tick(self, tick: Tick) -> None:
         """Run every filter tick up to the newest reel IMU stamp minus the input delay."""
         if self.newest_ns is None:
             return
         if self.next_ns is None:
             self.next_ns = min(self.reel)
-        target = min(self.newest_ns - self.delay_ns, tick.nanoseconds)
+        target = min(self.newest_ns - self.delay_ns, tick.time_ns)
         while self.next_ns <= target:
             t_ns = self.next_ns
             t = t_ns * 1e-9

@@ -36,7 +36,6 @@ from rclpy.node import Node
 from rclpy.qos import HistoryPolicy
 from rclpy.qos import QoSProfile
 from rclpy.qos import ReliabilityPolicy
-from rclpy.time import Time
 from scipy.spatial.transform import Rotation
 from sensor_msgs.msg import Imu
 from tether_msgs.msg import DgpsFix
@@ -59,7 +58,8 @@ from tether_common.node_main import run_node
 from tether_common.qos import SENSOR
 from tether_common.qos import STATE
 from tether_common.ros_parameters import declare_parameters
-from tether_common.sim_timer import SimTimer
+from tether_common.lockstep import Lockstep
+from tether_common.lockstep import Tick
 
 
 INPUT_DEPTH = 1000
@@ -104,7 +104,8 @@ class SensorsNode(Node):
         self.uav_pub = self.create_publisher(Imu, '/imu/uav', SENSOR)
         self.fix_pub = self.create_publisher(DgpsFix, '/dgps/fix', SENSOR)
         self.fault_pub = self.create_publisher(SensorFault, '/sensors/faults', STATE)
-        self.timer = SimTimer(self, self.dt, self.on_tick)
+        self.lockstep = Lockstep(self)
+        self.lockstep.every(self.dt, self.on_tick)
 
     def on_pose(self, msg: PoseStamped) -> None:
         """Keep the reel pose by stamp."""
@@ -120,13 +121,13 @@ class SensorsNode(Node):
         p, a = msg.position, msg.acceleration
         self.relative[stamp_ns(msg.header.stamp)] = (np.array([p.x, p.y, p.z]), np.array([a.x, a.y, a.z]))
 
-    def on_tick(self, tick: Time) -> None:
+    def on_tick(self, tick: Tick) -> None:
         """Simulate, in order, every tick whose inputs are in; skip a tick whose inputs can no longer come."""
         if self.next_ns is None:
             if not self.poses:
                 return
             self.next_ns = min(self.poses) + self.period_ns
-        while self.next_ns + self.period_ns <= tick.nanoseconds:
+        while self.next_ns + self.period_ns <= tick.time_ns:
             t_ns = self.next_ns
             truth = self.truth(t_ns)
             if truth is None:
