@@ -150,7 +150,7 @@ def main(argv: list[str] | None = None) -> int:
              f'{os.cpu_count()} cores',
              '',
              f'{"stage":<10} {"topics":>6} {"RTF single":>11} {"RTF events":>11} {"ratio":>6}']
-    for label, nodes in STAGES:
+    for label, _nodes in STAGES:
         topics = len(read_bag(args.out / f'{label.strip("+ ")}-events' / 'bag').topics)
         single, events = rates[label, 'single'], rates[label, 'events']
         lines.append(f'{label:<10} {topics:>6} {single:11.2f} {events:11.2f} {events / single:6.2f}')

@@ -285,7 +285,8 @@ class Lockstep:
         """Join once every node of the run is in the graph (``TETHERSIM_NODES``, set by the bringup),
         every input has a publisher and every publisher of the node has matched every subscription
         the graph shows, all unchanged for ``JOIN_SETTLE``: no message of the first ticks is
-        published before its subscribers are matched."""
+        published before its subscribers are matched.
+        """
         node = self._node
         present = {name for name, _ in node.get_node_names_and_namespaces()}
         ready = self._expected_nodes <= present and all(
