@@ -18,6 +18,7 @@ from test_uav_bridge_node import Probe  # noqa: E402
 from test_uav_bridge_node import ros_domain  # noqa: E402,F401 - fixture
 from test_uav_bridge_peer import wait_until  # noqa: E402
 from test_uav_mission_node import _start  # noqa: E402
+from test_uav_mission_node import publish_clock  # noqa: E402
 
 
 def test_mission_flies_the_builtin_uav_against_a_tether_pull(ros_domain):  # noqa: F811
@@ -25,6 +26,7 @@ def test_mission_flies_the_builtin_uav_against_a_tether_pull(ros_domain):  # noq
         _start('uav_bridge.builtin_uav_node', 'start:=[0.0, 0.0, 0.3]', domain=ros_domain),
         _start('uav_bridge.mission_node', 'altitude:=5.0', 'radial:=2.5', 'retry_period:=0.5', domain=ros_domain)]
     probe = Probe()
+    publish_clock(probe)
     phases = []
     probe.node.create_subscription(MissionState, '/mission/state', phases.append, LATCHED)
     reel = probe.node.create_publisher(ReelState, '/reel/state', STATE)

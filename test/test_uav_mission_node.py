@@ -6,16 +6,21 @@ import os
 import signal
 import subprocess
 import sys
+import time
 
 import numpy as np
 import pytest
 
 rclpy = pytest.importorskip('rclpy')
 
+from rclpy.clock import Clock as RosClock  # noqa: E402
+from rclpy.clock import ClockType  # noqa: E402
+from rosgraph_msgs.msg import Clock  # noqa: E402
 from tether_msgs.msg import MissionState  # noqa: E402
 from tether_msgs.msg import ReelState  # noqa: E402
 
 from mavlink_peer_double import ArduCopterPeerDouble  # noqa: E402
+from tether_common.qos import CLOCK  # noqa: E402
 from tether_common.qos import LATCHED  # noqa: E402
 from tether_common.qos import STATE  # noqa: E402
 from test_uav_bridge_node import Probe  # noqa: E402
@@ -25,9 +30,25 @@ from test_uav_bridge_peer import wait_until  # noqa: E402
 
 def _start(module, *params, domain):
     env = dict(os.environ, ROS_DOMAIN_ID=str(domain))
-    args = [arg for param in params for arg in ('-p', param)]
+    args = [arg for param in ('use_sim_time:=true', *params) for arg in ('-p', param)]
     return subprocess.Popen([sys.executable, '-m', module, '--ros-args', *args], env=env, stdout=subprocess.PIPE,
                             stderr=subprocess.PIPE, text=True)
+
+
+def publish_clock(probe) -> None:
+    """Drive ``/clock`` from the probe at wall speed in 10 ms steps, as the bringup's time master would.
+
+    The mission and the built-in UAV tick in lockstep on ``/clock``; outside a run no barrier
+    holds them, so the clock only has to advance.
+    """
+    clock = probe.node.create_publisher(Clock, '/clock', CLOCK)
+    start = time.monotonic()
+
+    def tick() -> None:
+        msg = Clock()
+        msg.clock.sec, msg.clock.nanosec = divmod(int((time.monotonic() - start) * 100) * 10_000_000, 1_000_000_000)
+        clock.publish(msg)
+    probe.node.create_timer(0.01, tick, clock=RosClock(clock_type=ClockType.STEADY_TIME))
 
 
 def test_mission_holds_station_and_lands_on_a_reel_trip(ros_domain):  # noqa: F811
@@ -38,6 +59,7 @@ def test_mission_holds_station_and_lands_on_a_reel_trip(ros_domain):  # noqa: F8
         _start('uav_bridge.mission_node', 'altitude:=5.0', 'radial:=2.5', 'bearing:=90.0', 'retry_period:=0.5',
                domain=ros_domain)]
     probe = Probe()
+    publish_clock(probe)
     phases = []
     probe.node.create_subscription(MissionState, '/mission/state', phases.append, LATCHED)
     reel = probe.node.create_publisher(ReelState, '/reel/state', STATE)
