@@ -43,6 +43,7 @@ from uav_bridge.builtin_uav import BuiltinUavConfig
 from uav_bridge.builtin_uav_params import PARAMETERS
 from uav_bridge.ros_fill import fill_quaternion
 from uav_bridge.ros_fill import fill_vector
+from uav_bridge.ros_fill import pose_and_twist
 
 
 class BuiltinUavNode(Node):
@@ -103,15 +104,9 @@ class BuiltinUavNode(Node):
         state = self.uav.step(tick.time_ns * 1e-9, self._force_for(tick.time_ns))
         stamp = tick.stamp
         rotation = Rotation.from_quat(state.quaternion)
-        pose = PoseStamped()
-        pose.header.stamp, pose.header.frame_id = stamp, 'world'
-        fill_vector(pose.pose.position, state.position)
-        fill_quaternion(pose.pose.orientation, state.quaternion)
+        pose, twist = pose_and_twist(stamp, state.position, state.quaternion, state.velocity,
+                                     rotation.apply(state.angular_velocity))
         self.pose_pub.publish(pose)
-        twist = TwistStamped()
-        twist.header.stamp, twist.header.frame_id = stamp, 'world'
-        fill_vector(twist.twist.linear, state.velocity)
-        fill_vector(twist.twist.angular, rotation.apply(state.angular_velocity))
         self.twist_pub.publish(twist)
         imu = Imu()
         imu.header.stamp, imu.header.frame_id = stamp, 'uav'

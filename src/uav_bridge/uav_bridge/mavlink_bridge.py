@@ -55,6 +55,7 @@ from uav_bridge.session import LinkStatus
 from uav_bridge.session import MavlinkSession
 from uav_bridge.ros_fill import fill_quaternion
 from uav_bridge.ros_fill import fill_vector
+from uav_bridge.ros_fill import pose_and_twist
 from uav_bridge.session import SessionConfig
 
 WORLD_FRAMES = ('world', '')
@@ -143,15 +144,9 @@ class MavlinkBridge(Node):
     def _publish_sample(self, sample, stamp: float) -> None:
         header_stamp = Time(nanoseconds=round(stamp * 1e9)).to_msg()
         if isinstance(sample, telemetry.Kinematics):
-            pose = PoseStamped()
-            pose.header.stamp, pose.header.frame_id = header_stamp, 'world'
-            fill_vector(pose.pose.position, sample.position)
-            fill_quaternion(pose.pose.orientation, sample.orientation)
+            pose, twist = pose_and_twist(header_stamp, sample.position, sample.orientation, sample.velocity,
+                                         sample.angular_velocity)
             self.pose_pub.publish(pose)
-            twist = TwistStamped()
-            twist.header.stamp, twist.header.frame_id = header_stamp, 'world'
-            fill_vector(twist.twist.linear, sample.velocity)
-            fill_vector(twist.twist.angular, sample.angular_velocity)
             self.twist_pub.publish(twist)
         elif isinstance(sample, telemetry.ImuSample):
             imu = Imu()

@@ -2,6 +2,9 @@
 
 from __future__ import annotations
 
+from geometry_msgs.msg import PoseStamped
+from geometry_msgs.msg import TwistStamped
+
 
 def fill_vector(target, values) -> None:
     """Set x, y, z of a Vector3 or Point from three numbers."""
@@ -11,3 +14,16 @@ def fill_vector(target, values) -> None:
 def fill_quaternion(target, values) -> None:
     """Set x, y, z, w of a Quaternion from (x, y, z, w)."""
     target.x, target.y, target.z, target.w = (float(v) for v in values)
+
+
+def pose_and_twist(stamp, position, quaternion, velocity, angular_velocity) -> tuple[PoseStamped, TwistStamped]:
+    """The UAV's ``/uav/pose`` and ``/uav/twist`` in ``world`` (ENU; angular velocity expressed in world)."""
+    pose = PoseStamped()
+    pose.header.stamp, pose.header.frame_id = stamp, 'world'
+    fill_vector(pose.pose.position, position)
+    fill_quaternion(pose.pose.orientation, quaternion)
+    twist = TwistStamped()
+    twist.header.stamp, twist.header.frame_id = stamp, 'world'
+    fill_vector(twist.twist.linear, velocity)
+    fill_vector(twist.twist.angular, angular_velocity)
+    return pose, twist
