@@ -146,6 +146,23 @@ def test_replay_of_a_bag_with_nothing_intact_refuses_in_one_line(tmp_path):
     assert not (tmp_path / 'out').exists()
 
 
+def test_replay_of_a_cut_bag_replays_exactly_its_intact_messages(tmp_path):
+    directory = _bag_dir(tmp_path, DATA[:len(DATA) * 60 // 100], 'cut')
+    intact = read_bag(directory)
+    result = tethersim('replay', str(directory), '--out', str(tmp_path / 'out'), '--rate', 'max', timeout=120)
+    assert result.returncode == 0, result.stderr
+    assert 'Traceback' not in result.stderr
+    warning = [line for line in result.stderr.splitlines() if 'warning' in line]
+    assert len(warning) == 1 and f'damaged at {intact.damage_line()}' in warning[0]
+    replayed = read_bag(tmp_path / 'out' / 'bag')
+    assert replayed.complete
+
+    def payloads(bag):
+        return sorted((m.topic, m.data) for m in bag.messages if m.topic != '/clock')
+
+    assert payloads(replayed) == payloads(intact)
+
+
 def test_report_reads_a_cut_bag(tmp_path):
     from psr_platform_sim.report import tracking_report
     directory = _bag_dir(tmp_path, DATA[:len(DATA) * 70 // 100], 'cut')
