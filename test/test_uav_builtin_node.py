@@ -2,8 +2,6 @@
 
 from __future__ import annotations
 
-import signal
-
 import pytest
 
 rclpy = pytest.importorskip('rclpy')
@@ -18,7 +16,9 @@ from test_uav_bridge_node import Probe  # noqa: E402
 from test_uav_bridge_node import ros_domain  # noqa: E402,F401 - fixture
 from test_uav_bridge_peer import wait_until  # noqa: E402
 from test_uav_mission_node import _start  # noqa: E402
+from test_uav_mission_node import assert_clean_exits  # noqa: E402
 from test_uav_mission_node import publish_clock  # noqa: E402
+from test_uav_mission_node import stop_nodes  # noqa: E402
 
 
 def test_mission_flies_the_builtin_uav_against_a_tether_pull(ros_domain):  # noqa: F811
@@ -54,10 +54,5 @@ def test_mission_flies_the_builtin_uav_against_a_tether_pull(ros_domain):  # noq
         assert probe.got['pose'][-1].pose.position.z == pytest.approx(0.3)
     finally:
         probe.close()
-        errors = []
-        for process in processes:
-            process.send_signal(signal.SIGINT)
-            _, err = process.communicate(timeout=20)
-            errors.append((process.returncode, err))
-    for status, err in errors:
-        assert status == 0 and 'Traceback' not in err, err
+        stopped = stop_nodes(processes)
+    assert_clean_exits(stopped)

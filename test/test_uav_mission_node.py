@@ -35,6 +35,22 @@ def _start(module, *params, domain):
                             stderr=subprocess.PIPE, text=True)
 
 
+def stop_nodes(processes) -> list[tuple[int, str]]:
+    """SIGINT each node process and return its (exit status, stderr)."""
+    stopped = []
+    for process in processes:
+        process.send_signal(signal.SIGINT)
+        _, err = process.communicate(timeout=20)
+        stopped.append((process.returncode, err))
+    return stopped
+
+
+def assert_clean_exits(stopped) -> None:
+    """Every node ended with status 0 and no traceback."""
+    for status, err in stopped:
+        assert status == 0 and 'Traceback' not in err, err
+
+
 def publish_clock(probe) -> None:
     """Drive ``/clock`` from the probe at wall speed in 10 ms steps, as the bringup's time master would.
 
@@ -82,11 +98,6 @@ def test_mission_holds_station_and_lands_on_a_reel_trip(ros_domain):  # noqa: F8
         assert not peer.snapshot()['armed'] and peer.snapshot()['position'][2] > -0.1
     finally:
         probe.close()
-        errors = []
-        for process in processes:
-            process.send_signal(signal.SIGINT)
-            _, err = process.communicate(timeout=20)
-            errors.append((process.returncode, err))
+        stopped = stop_nodes(processes)
         peer.close()
-    for status, err in errors:
-        assert status == 0 and 'Traceback' not in err, err
+    assert_clean_exits(stopped)
