@@ -93,6 +93,14 @@ def _quaternion(q) -> np.ndarray:
     return np.array([q.x, q.y, q.z, q.w])
 
 
+def _rigid_motion(pose, twist) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray] | None:
+    """Position, quaternion (x, y, z, w), velocity and angular velocity from a pose and twist pair, or None."""
+    if pose is None or twist is None:
+        return None
+    return (_vector(pose.pose.position), _quaternion(pose.pose.orientation),
+            _vector(twist.twist.linear), _vector(twist.twist.angular))
+
+
 def _set(target, values) -> None:
     target.x, target.y, target.z = (float(v) for v in values)
 
@@ -156,24 +164,19 @@ class PlantNode(Node):
 
     def _inputs(self, tick: Tick) -> PlantInputs | None:
         """The plant's inputs for the tick from the messages the lockstep selected, or None before the first."""
-        mount, twist = tick.inputs['/platform/reel_pose'], tick.inputs['/platform/reel_twist']
-        inputs = PlantInputs(sea_surface_height=self.params['sea_level'])
-        if mount is None or twist is None:
+        platform = _rigid_motion(tick.inputs['/platform/reel_pose'], tick.inputs['/platform/reel_twist'])
+        if platform is None:
             return None
-        inputs.platform_position = _vector(mount.pose.position)
-        inputs.platform_quaternion = _quaternion(mount.pose.orientation)
-        inputs.platform_velocity = _vector(twist.twist.linear)
-        inputs.platform_angular_velocity = _vector(twist.twist.angular)
+        inputs = PlantInputs(sea_surface_height=self.params['sea_level'])
+        (inputs.platform_position, inputs.platform_quaternion,
+         inputs.platform_velocity, inputs.platform_angular_velocity) = platform
         if self.params['uav_source'] == 'fixed':
             inputs.uav_position = np.asarray(self.params['uav_position'], dtype=float)
-        else:
-            pose, uav_twist = tick.inputs['/uav/pose'], tick.inputs['/uav/twist']
-            if pose is None or uav_twist is None:
-                return None
-            inputs.uav_position = _vector(pose.pose.position)
-            inputs.uav_quaternion = _quaternion(pose.pose.orientation)
-            inputs.uav_velocity = _vector(uav_twist.twist.linear)
-            inputs.uav_angular_velocity = _vector(uav_twist.twist.angular)
+            return inputs
+        uav = _rigid_motion(tick.inputs['/uav/pose'], tick.inputs['/uav/twist'])
+        if uav is None:
+            return None
+        inputs.uav_position, inputs.uav_quaternion, inputs.uav_velocity, inputs.uav_angular_velocity = uav
         return inputs
 
     def _reel(self, tick: Tick, inputs: PlantInputs) -> None:
