@@ -28,6 +28,7 @@ from smart_reel.sensors import GuideArm
 from smart_reel.sensors import tension_from_current
 from smart_reel.spool import Encoder
 from smart_reel.spool import SpoolGeometry
+from smart_reel.tension_model import TetherStiffness
 from smart_reel.winch import BRAKE
 from smart_reel.winch import CURRENT
 from smart_reel.winch import VOLTAGE
@@ -107,7 +108,8 @@ def build_core(params: dict, initial_length: float) -> ReelCore:
                     reference_mode=params['reference_mode'],
                     scheduler=SchmittScheduler(params['schedule_upper'], params['schedule_lower'],
                                                params['alpha_slow']),
-                    taut_torque=params['taut_torque'], sync_gain=params['sync_gain'])
+                    taut_torque=params['taut_torque'], sync_gain=params['sync_gain'],
+                    stiffness=TetherStiffness(params['linear_density'], params['axial_stiffness']))
 
 
 class ReelCore:
@@ -116,7 +118,7 @@ class ReelCore:
     def __init__(self, controller: str, winch: Winch, encoder: Encoder, arm: GuideArm, limits: SafetyLimits, *,
                  step: float, control_period: float, radial_period: float, kp: float, kd: float, ki: float,
                  voltage_limit: float, reference_mode: str, scheduler: SchmittScheduler,
-                 taut_torque: float, sync_gain: float = 10.0) -> None:
+                 taut_torque: float, sync_gain: float = 10.0, stiffness: TetherStiffness | None = None) -> None:
         if controller not in CONTROLLERS:
             raise ValueError(f'controller must be one of {CONTROLLERS}, got {controller!r}')
         ratio = control_period / step
@@ -139,6 +141,7 @@ class ReelCore:
         self._trip = ''
         self._arm_angle = math.nan
         self.sync_gain = sync_gain
+        self.stiffness = stiffness
         self._history: dict[int, float] = {}
         self._corrections: dict[int, float] = {}
 
@@ -162,6 +165,13 @@ class ReelCore:
                 correction = self.sync_gain * (own - inputs.plant_length - pending)
         self._corrections[key] = correction
         return correction
+
+    def _pull_slope(self, inputs: ReelInputs) -> tuple[float, float | None]:
+        """``-∂T/∂L`` (N/m) of the tether at the plant's last step and the length it had there."""
+        if (self.stiffness is None or inputs.tension is None or inputs.plant_length is None or inputs.dr is None
+                or inputs.dz is None):
+            return 0.0, None
+        return self.stiffness(inputs.dr, inputs.dz, inputs.plant_length), inputs.plant_length
 
     def measured_length(self) -> float:
         """Deployed length (m) from the encoder count through the spool's layer model."""
@@ -203,7 +213,7 @@ class ReelCore:
             self._next_control = (math.floor(t / self.control_period + 1e-9) + 1) * self.control_period
         w = self.winch
         before_angle, before_length = w.state.spool_angle, w.deployed
-        state = w.step(self.step_size, self._drive, self._command, inputs.tension or 0.0)
+        state = w.step(self.step_size, self._drive, self._command, inputs.tension or 0.0, *self._pull_slope(inputs))
         payout = (w.deployed - before_length) / self.step_size
         command_payout = payout + self._sync(t, w.deployed, inputs)
         if inputs.departure_angle is not None:

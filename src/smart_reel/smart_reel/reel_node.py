@@ -11,6 +11,11 @@ messages stamped at or before ``t - input_delay`` (their producers' periods are
 * ``/reel/state`` (tether_msgs/ReelState) and ``/reel/diagnostics``
   (tether_msgs/ReelControllerDiagnostics) at every controller tick (50 Hz).
 
+Safety trips: while a trip holds the reel, ``/reel/state.mode`` is ``MODE_FAULT`` and
+``/reel/diagnostics.safety_trip`` holds its reason; ``trip_count`` counts trips since the
+start (a subscriber that missed a short trip sees the count rise), and each new trip is
+logged with its reason (``/rosout``). A mission node aborts on these.
+
 Inputs: ``/tether/state`` (tether_msgs/TetherState: tension at the guide way, departure
 angle, clearances) and the relative position, ``/truth/relative``
 (tether_msgs/RelativePosition, like the thesis's MoCap) or ``/estimate/relative``
@@ -78,6 +83,7 @@ class ReelNode(Node):
             raise ConfigurationError(str(error)) from None
         p = self.params
         self.core: ReelCore | None = None
+        self._trips_logged = 0
         self.relative_topic, relative_type = (('/truth/relative', RelativePosition) if p['relative_source'] == 'truth'
                                               else ('/estimate/relative', RelativeEstimate))
         inputs = [Input('/tether/state', TetherState, 1.0 / p['tether_state_rate'], p['input_delay'], LOOP),
@@ -128,6 +134,9 @@ class ReelNode(Node):
         command.spool_torque = out.shaft_torque
         command.payout_rate = out.command_payout
         self.command_pub.publish(command)
+        if out.trips > self._trips_logged:
+            self._trips_logged = out.trips
+            self.get_logger().warning(f'safety trip {out.trips} at {tick.seconds:.2f} s: {out.trip}; the reel holds')
         if out.control_tick:
             self.state_pub.publish(self._state(stamp, out))
             self.diagnostics_pub.publish(self._diagnostics(stamp, out, inputs))

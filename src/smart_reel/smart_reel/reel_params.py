@@ -51,8 +51,10 @@ PARAMETERS: tuple[ParamSpec, ...] = (
               low=0.0, high=10.0, read_only=True),
     ParamSpec('schedule_lower', 0.1, 'lowered threshold once the speed fell below it (thesis Sec. 4.2)', 'm/s',
               low=0.0, high=10.0, read_only=True),
-    ParamSpec('taut_torque', 1.5, 'taut controller reel-in spool torque, above the static friction (chosen: '
-              '4x static friction, Sec. 6.1.4)', 'N m', low=0.01, high=100.0, read_only=True),
+    ParamSpec('taut_torque', 2.43, 'taut controller reel-in spool torque, above the static friction (Sec. 6.1.4 '
+              "states the tension, not the torque: 2.43 N m holds the thesis's taut mean, 27.52 N, at rest at the "
+              '0.088 m drum radius of the surrogate scenes; 7x the static friction)', 'N m', low=0.01, high=100.0,
+              read_only=True),
     ParamSpec('initial_length', 0.0, 'deployed length at start; 0 takes it from the first /tether/state', 'm',
               low=0.0, high=1000.0, read_only=True),
     ParamSpec('motor_resistance', 1.5, 'winding resistance (class)', 'ohm', low=0.01, high=100.0, read_only=True),
@@ -87,6 +89,8 @@ PARAMETERS: tuple[ParamSpec, ...] = (
               low=1.0, high=10000.0, read_only=True),
     ParamSpec('linear_density', 0.042, 'tether mass per length (thesis Sec. 3.2.1)', 'kg/m', low=1e-4,
               high=10.0, read_only=True),
+    ParamSpec('axial_stiffness', 2.0e4, "tether axial stiffness EA, as the plant's (the drive's model of the "
+              'pull between plant steps, smart_reel.tension_model)', 'N', low=1.0, high=1e9, read_only=True),
     ParamSpec('arm_deadband', 20.0, 'guide-arm follower dead-band on reversal (thesis Sec. 6.1.3)', 'deg',
               low=0.0, high=90.0, read_only=True),
     ParamSpec('arm_encoder_bits', 12, 'guide-arm absolute encoder resolution (MAE-3, Table 5.1)', 'bit',

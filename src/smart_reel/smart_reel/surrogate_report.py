@@ -19,7 +19,8 @@ Definitions (each as in the thesis where it says): length error = encoder length
 arrival-angle error = mean |β measured - β of the static catenary with the measured length|;
 departure lag = lag of the peak of the normalised cross-correlation between the guide-arm
 reading and the theoretical departure angle (positive: the reading lags). Statistics skip
-the first ``SETTLE`` seconds (the platform's ramp-in).
+the first ``settle`` seconds (``--settle``; by default ``SETTLE``, the platform's ramp-in, or
+half the run if it is shorter than twice that).
 """
 
 from __future__ import annotations
@@ -30,6 +31,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
+import yaml
 
 from tether_bringup.bag_reader import Bag
 from tether_bringup.bag_reader import read_bag
@@ -42,7 +44,7 @@ from tether_dynamics.statics.catenary import solve
 from tether_dynamics.statics.reference_length import reference_lengths
 
 SETTLE = 10.0
-"""s skipped at the start of each run."""
+"""s skipped at the start of each run by default."""
 GUIDE_HEIGHT = 0.3
 """m, guide way above the deck (the reel node's default ``guide_height``)."""
 THESIS = {
@@ -60,11 +62,30 @@ class Run:
 
     path: Path
     controller: str
+    profile: str
     tether: dict[str, np.ndarray]
     relative: dict[str, np.ndarray]
     reel: dict[str, np.ndarray]
     diagnostics: dict[str, np.ndarray]
     platform: dict[str, np.ndarray]
+
+
+def platform_profile(path: str | Path) -> str:
+    """The platform's motion profile and seed of a run, from the run directory's ``params/platform.yaml``.
+
+    ``path`` may be the run directory, its bag directory or the ``.mcap`` file; ``'unknown'``
+    when no parameter file of the run is found (a bag copied out of its run directory).
+    """
+    start = Path(path).resolve()
+    for directory in (start, *start.parents[:2]):
+        file = directory / 'params' / 'platform.yaml'
+        if file.is_file():
+            try:
+                values = yaml.safe_load(file.read_text())['/**']['ros__parameters']
+            except (yaml.YAMLError, KeyError, TypeError):
+                return 'unknown'
+            return f'{values.get("profile", "jonswap")} seed {values.get("seed", 1)}'
+    return 'unknown'
 
 
 def _stamp(msg) -> float:
@@ -111,8 +132,10 @@ def load_run(path: str | Path) -> Run:
     if len(reel['t']) == 0 or len(tether['t']) == 0:
         raise UsageError(f'{path}: the bag holds no /reel/state or /tether/state messages')
     modes = reel['mode'][reel['mode'] != 4]  # fault: a safety trip, not the controller
-    controller = MODE_NAMES.get(int(np.bincount(modes.astype(int)).argmax()) if len(modes) else 4, 'unknown')
-    return Run(Path(path), controller, tether, relative, reel, diagnostics, platform)
+    controller = MODE_NAMES.get(int(np.bincount(modes.astype(int)).argmax()) if len(modes) else 4)
+    if controller is None:
+        raise UsageError(f'{path}: the reel ran no catenary, taut or locked mode (/reel/state mode)')
+    return Run(Path(path), controller, platform_profile(path), tether, relative, reel, diagnostics, platform)
 
 
 def _on(t_from: np.ndarray, values: np.ndarray, t_to: np.ndarray) -> np.ndarray:
@@ -125,17 +148,22 @@ def _lag(t: np.ndarray, measured: np.ndarray, theory: np.ndarray, max_lag: float
     a = measured - measured.mean()
     b = theory - theory.mean()
     n = len(a)
-    k = int(max_lag / dt)
+    k = min(int(max_lag / dt), n // 2)
     lags = np.arange(-k, k + 1)
     corr = np.array([np.dot(a[max(0, l):n + min(0, l)], b[max(0, -l):n - max(0, l)]) for l in lags])
     corr /= np.sqrt(np.dot(a, a) * np.dot(b, b))
     return float(lags[np.argmax(corr)] * dt), lags * dt, corr
 
 
-def analyse(run: Run) -> dict:
-    """Figures of one run (see the module docstring for definitions)."""
+def analyse(run: Run, settle: float | None = None) -> dict:
+    """Figures of one run after its first ``settle`` seconds (see the module docstring for definitions)."""
     t = run.tether['t']
-    keep = t >= t[0] + SETTLE
+    if settle is None:
+        settle = min(SETTLE, 0.5 * (t[-1] - t[0]))
+    if t[-1] - t[0] < settle + 1.0:
+        raise UsageError(f'{run.path}: {t[-1] - t[0]:.1f} s recorded, too short to skip {settle:g} s and keep 1 s '
+                         '(see --settle)')
+    keep = t >= t[0] + settle
     dr = _on(run.relative['t'], run.relative['dr'], t)
     dz = _on(run.relative['t'], run.relative['dz'], t)
     model, _ = reference_lengths(dr, dz, 'poly')
@@ -145,7 +173,7 @@ def analyse(run: Run) -> dict:
     length = np.maximum(run.tether['length'], np.hypot(dr, dz) * (1 + 1e-9))
     theory = solve(dr, dz, length)
     arm_t = run.reel['t']
-    arm_keep = (arm_t >= t[0] + SETTLE) & np.isfinite(run.reel['arm'])
+    arm_keep = (arm_t >= t[0] + settle) & np.isfinite(run.reel['arm'])
     alpha_theory = _on(t, theory.alpha, arm_t[arm_keep])
     lag, lags, corr = (_lag(arm_t[arm_keep], run.reel['arm'][arm_keep], alpha_theory)
                        if arm_keep.sum() > 10 else (math.nan, np.zeros(0), np.zeros(0)))
@@ -162,23 +190,28 @@ def analyse(run: Run) -> dict:
         'min_deck': float(np.min(deck[keep])), 'min_sea': float(np.min(run.tether['clearance_sea'][keep])),
         'fouled_time': float(np.sum(fouled[keep]) * np.median(np.diff(t))),
         'first_fouled': float(t[np.argmax(fouled)] - t[0]) if fouled.any() else math.nan,
-        'duration': float(t[-1] - t[0]),
+        'duration': float(t[-1] - t[0]), 'settle': settle,
     }
 
 
 def _row(name: str, thesis: str, values: dict[str, str]) -> str:
-    cells = ''.join(f'{values.get(c, "-"):>22}' for c in ('catenary', 'taut', 'locked'))
+    """One table row: a column per run given, in the order catenary, taut, locked."""
+    cells = ''.join(f'{values[c]:>22}' for c in MODE_NAMES.values() if c in values)
     return f'{name:<34}{thesis:>22}{cells}'
 
 
-def report(paths: list[str], out: Path) -> str:
+def report(paths: list[str], out: Path, settle: float | None = None) -> str:
     """Analyse the runs, write the PNGs and return the summary text."""
     runs = [load_run(p) for p in paths]
     by_mode: dict[str, tuple[Run, dict]] = {}
     for run in runs:
         if run.controller in by_mode:
             raise UsageError(f'two {run.controller} runs given: {by_mode[run.controller][0].path} and {run.path}')
-        by_mode[run.controller] = (run, analyse(run))
+        by_mode[run.controller] = (run, analyse(run, settle))
+    profiles = {run.profile for run in runs}
+    if len(profiles) > 1:
+        raise UsageError('the runs played different platform profiles (' + ', '.join(
+            f'{run.controller}: {run.profile}' for run in runs) + '); compare runs of one profile')
     figures = {mode: result for mode, (_, result) in by_mode.items()}
     fmt = {
         'length mean error (m)': lambda r: f'{r["length_mean"]:+.4f}',
@@ -198,8 +231,9 @@ def report(paths: list[str], out: Path) -> str:
         'arrival-angle error (deg)': f'{THESIS["arrival_error"]}',
         'departure-angle xcorr lag (s)': f'{THESIS["departure_lag"]}',
     }
-    lines = ['UAV-surrogate experiment (Sec. 5.1, 6.1): '
-             + ', '.join(f'{m} {figures[m]["duration"]:.0f} s ({by_mode[m][0].path})' for m in figures),
+    lines = [f'UAV-surrogate experiment (Sec. 5.1, 6.1), platform profile {runs[0].profile}: '
+             + ', '.join(f'{m} {figures[m]["duration"]:.0f} s, statistics after {figures[m]["settle"]:.1f} s '
+                         f'({by_mode[m][0].path})' for m in figures),
              _row('', 'thesis (cat. / taut)', {m: m for m in figures}),
              _row('', '', {m: '' for m in figures})]
     for name, f in fmt.items():
@@ -326,10 +360,14 @@ def _arguments(parser: argparse.ArgumentParser) -> None:
     p = sub.add_parser('surrogate', help='UAV-surrogate experiment, Fig. 6.1-6.4 and Sec. 6.1 numbers')
     p.add_argument('bags', nargs='+', help='run directories, bag directories or .mcap files')
     p.add_argument('--out', type=Path, default=Path('runs/report-surrogate'), help='output directory')
+    p.add_argument('--settle', type=float, default=None,
+                   help=f's skipped at the start of each run (default {SETTLE:g}, or half a shorter run)')
 
 
 def _command(args: argparse.Namespace) -> str:
-    return report(args.bags, args.out)
+    if args.settle is not None and args.settle < 0.0:
+        raise UsageError(f'--settle must be >= 0 s, got {args.settle:g}')
+    return report(args.bags, args.out, args.settle)
 
 
 COMMAND = Command('reports computed from recorded runs: surrogate (UAV-surrogate experiment, Sec. 6.1)',

@@ -1,7 +1,7 @@
 """The spool drive: motor, gearbox, drum and wound tether against the tether's pull.
 
-Rotational balance at the spool shaft (positive = paying out), the drum part of the
-thesis's reel equation (Eq. 7.42) with the drive's inertia and friction added:
+The winch equation of the thesis (Eq. 7.42, :mod:`tether_dynamics.winch`, the same
+implementation the tether plant steps) with the drive's inertia and friction:
 
     J(L) ω̇ = N K_t i + T r(L) - b ω - τ_c sgn ω,        J(L) = J_drum + J_wound(L) + N² J_m
 
@@ -35,6 +35,7 @@ from smart_reel.motor import MotorParameters
 from smart_reel.motor import current_command
 from smart_reel.motor import current_step
 from smart_reel.spool import SpoolGeometry
+from tether_dynamics.winch import spool_rate_step
 
 VOLTAGE = 'voltage'
 CURRENT = 'current'
@@ -101,11 +102,15 @@ class Winch:
         """Total inertia at the spool shaft (kg m²) at the current deployed length."""
         return self.drum_inertia + self.spool.wound_inertia(self.deployed) + self.motor.reflected_inertia
 
-    def step(self, dt: float, drive: str, command: float, tension: float) -> WinchState:
-        """Advance ``dt`` seconds with the drive command and tether ``tension`` (N) held.
+    def step(self, dt: float, drive: str, command: float, tension: float, stiffness: float = 0.0,
+             reference_length: float | None = None) -> WinchState:
+        """Advance ``dt`` seconds with the drive command against the tether's pull.
 
-        The drum radius and the inertia are those at the start of the step (they change
-        only when the tether crosses into another layer).
+        The pull is ``tension`` (N) at ``reference_length`` (m, default: the length at the
+        start of the step) moved along ``stiffness`` (N/m, ``-∂T/∂L``) to the length of each
+        sub-step, and never below zero (:mod:`smart_reel.tension_model`). The drum radius and
+        the inertia are those at the start of the step (they change only when the tether
+        crosses into another layer).
         """
         if drive not in DRIVES:
             raise ValueError(f'drive must be one of {DRIVES}, got {drive!r}')
@@ -117,7 +122,8 @@ class Winch:
         limited = False
         r = self.spool.radius(self.deployed)
         j = self.inertia()
-        load = tension * r
+        start_angle = s.spool_angle
+        offset = self.deployed - (self.deployed if reference_length is None else reference_length)
         for _ in range(n):
             if drive == VOLTAGE:
                 s.current = current_step(m, s.current, command, s.spool_rate, h)
@@ -130,19 +136,15 @@ class Winch:
             else:
                 s.current = 0.0
                 s.voltage = 0.0
-            active = m.shaft_constant * s.current + load
-            if drive == BRAKE or (abs(s.spool_rate) <= self.stick_rate and abs(active) <= f.static):
-                s.spool_rate = 0.0
-                s.stuck = True
-                continue
-            direction = s.spool_rate if s.spool_rate != 0.0 else active
-            coulomb = math.copysign(f.coulomb, direction)
-            new_rate = (j * s.spool_rate + h * (active - coulomb)) / (j + h * f.viscous)
-            if s.spool_rate != 0.0 and new_rate * s.spool_rate < 0.0:
+            if drive == BRAKE:
                 new_rate = 0.0
+            else:
+                pull = max(0.0, tension - stiffness * (offset + r * (s.spool_angle - start_angle)))
+                new_rate = spool_rate_step(s.spool_rate, m.shaft_constant * s.current, pull, r, j, f.viscous,
+                                           f.coulomb, f.static, self.stick_rate, h)
             s.spool_angle += 0.5 * h * (s.spool_rate + new_rate)
             s.spool_rate = new_rate
-            s.stuck = False
+            s.stuck = new_rate == 0.0
         self.deployed = self.spool.deployed_length(self.initial_length, s.spool_angle)
         s.current_limited = limited
         return s

@@ -110,3 +110,51 @@ def test_bad_parameter_is_one_line_exit_2():
     _, err = process.communicate(timeout=30)
     assert process.returncode == 2
     assert 'controller' in err and 'Traceback' not in err
+
+
+def test_a_safety_trip_is_published_with_its_reason_and_logged():
+    """The taut controller's reel-in torque reads as ~30 N of tension; a 5 N limit trips it."""
+    process, env = _start('-p', 'controller:=taut', '-p', 'max_tension:=5.0', '-p', 'initial_length:=8.0')
+    os.environ['ROS_DOMAIN_ID'] = env['ROS_DOMAIN_ID']
+    rclpy.init()
+    node = rclpy.create_node('mission_test_double')
+    states, diagnostics = [], []
+    node.create_subscription(ReelState, '/reel/state', states.append, STATE)
+    node.create_subscription(ReelControllerDiagnostics, '/reel/diagnostics', diagnostics.append, STATE)
+    clock = node.create_publisher(Clock, '/clock', 10)
+    tether = node.create_publisher(TetherState, '/tether/state', STATE)
+    relative = node.create_publisher(RelativePosition, '/truth/relative', STATE)
+    try:
+        deadline = time.monotonic() + 60.0
+        while time.monotonic() < deadline and (node.count_subscribers('/tether/state') == 0
+                                               or node.count_publishers('/reel/diagnostics') == 0):
+            rclpy.spin_once(node, timeout_sec=0.05)
+        sim_ns = 0
+        while time.monotonic() < deadline and sim_ns < 1_000_000_000:
+            sim_ns += 10_000_000
+            rel = RelativePosition()
+            _stamp(rel, sim_ns)
+            rel.position.x, rel.position.z = 3.22, 7.0
+            relative.publish(rel)
+            state = TetherState()
+            _stamp(state, sim_ns)
+            state.deployed_length, state.tension_reel, state.departure_angle = 8.0, 0.6, 0.2
+            state.clearance_deck, state.clearance_sea = 0.0, 3.0
+            tether.publish(state)
+            msg = Clock()
+            msg.clock.sec, msg.clock.nanosec = divmod(sim_ns, 1_000_000_000)
+            clock.publish(msg)
+            for _ in range(8):
+                rclpy.spin_once(node, timeout_sec=0.002)
+    finally:
+        process.send_signal(signal.SIGINT)
+        _, err = process.communicate(timeout=20)
+        node.destroy_node()
+        rclpy.shutdown()
+    assert process.returncode == 0
+    tripped = [d for d in diagnostics if d.safety_trip]
+    assert tripped and all(d.safety_trip.startswith('reel-in stopped: tension') for d in tripped)
+    assert diagnostics[-1].trip_count >= 1
+    stamps = {_ns(d) for d in tripped}
+    assert {_ns(s) for s in states if s.mode == ReelState.MODE_FAULT} == stamps
+    assert 'safety trip 1 at' in err and 'reel-in stopped' in err

@@ -3,12 +3,13 @@
 Compiled (numba) so the finite-element stepper calls them every internal step; the
 quasi-static plant calls the same functions from Python.
 
-Winch. With the payout rate Ldot = d omega (d the spool radius, omega + paying out), the
-winch equation of Eq. 7.26 / 7.42 reads (mu s_d d^2 + J_d) omegadot = u + d T_A - c omega:
-the wound tether (length s_d, the drum's share of the conserved tether mass) adds to the
-drum's inertia, the tether's tension at the guide way T_A pulls the spool towards payout,
-u is the motor torque (+ pays out) and c viscous friction. Material leaves the drum with
-the rim speed, so no momentum-flux term appears in this balance. Neglected, and named: the
+Winch. The winch equation of Eq. 7.26 / 7.42 is :mod:`tether_dynamics.winch` (the same
+functions the smart reel steps), compiled here: with the payout rate Ldot = d omega (d the
+spool radius, omega + paying out), (mu s_d d^2 + J_d) omegadot = u + d T_A - c omega: the
+wound tether (length s_d, the drum's share of the conserved tether mass) adds to the drum's
+inertia, the tether's tension at the guide way T_A pulls the spool towards payout, u is the
+motor torque (+ pays out) and c viscous friction (taken implicitly). The plant's drum has no
+Coulomb friction or stiction (the smart reel models its own drive). Neglected, and named: the
 torque of the partial wrap's weight (mu g d sin((s_d - b)/d), at most mu g d^2, 1e-4 N m
 for the defaults), the guide-way segment b, and the reaction of the winch on the boat
 (Eq. 7.40-7.41: the boat's motion is prescribed). A prescribed spool rate skips the
@@ -26,6 +27,12 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
+from tether_dynamics import winch
+
+_spool_rate_step = njit(cache=True)(winch.spool_rate_step)
+_required_torque = njit(cache=True)(winch.required_torque)
+_wound_inertia = njit(cache=True)(winch.wound_inertia)
+
 # Reel parameter vector rp.
 RP_RADIUS, RP_INERTIA, RP_FRICTION, RP_MU, RP_TOTAL, RP_MIN, RP_MAX = range(7)
 # Reel state vector rs: spool angle, spool rate, deployed length, motor work, last applied torque, at a stop.
@@ -41,14 +48,14 @@ def reel_step(rs, rp, torque_input, command, tension, dt):
     The deployed length stops at [min, max] (the spool then stands still).
     """
     d = rp[RP_RADIUS]
-    j_eff = rp[RP_INERTIA] + rp[RP_MU] * (rp[RP_TOTAL] - rs[RS_LENGTH]) * d * d
+    j_eff = rp[RP_INERTIA] + _wound_inertia(rp[RP_MU], rp[RP_TOTAL] - rs[RS_LENGTH], d)
     old = rs[RS_RATE]
     if torque_input:
-        rate = old + dt * (command + d * tension - rp[RP_FRICTION] * old) / j_eff
+        rate = _spool_rate_step(old, command, tension, d, j_eff, rp[RP_FRICTION], 0.0, 0.0, 0.0, dt)
         torque = command
     else:
         rate = command
-        torque = j_eff * (rate - old) / dt - d * tension + rp[RP_FRICTION] * rate
+        torque = _required_torque(old, rate, tension, d, j_eff, rp[RP_FRICTION], dt)
     old_length = rs[RS_LENGTH]
     length = old_length + dt * d * rate
     stop = 0.0
