@@ -212,6 +212,7 @@ def report(paths: list[str], out: Path, settle: float | None = None) -> str:
     if len(profiles) > 1:
         raise UsageError('the runs played different platform profiles (' + ', '.join(
             f'{run.controller}: {run.profile}' for run in runs) + '); compare runs of one profile')
+    by_mode = {mode: by_mode[mode] for mode in MODE_NAMES.values() if mode in by_mode}
     figures = {mode: result for mode, (_, result) in by_mode.items()}
     fmt = {
         'length mean error (m)': lambda r: f'{r["length_mean"]:+.4f}',

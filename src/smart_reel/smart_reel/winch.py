@@ -19,8 +19,10 @@ per step: the loop is unstable. So the stiff electromechanics are integrated her
 sub-steps of at most ``max_substep`` (exact current exponential, implicit viscous term),
 with the tether tension of the last plant step as the load, and the plant receives the
 resulting payout over the step (``ReelCommand.CONTROL_SPOOL_RATE``). The remaining loop
-(tension → spool → payout → tension) crosses the one-step delay only through the
-tether's compliance, which is slow against the step.
+(tension → spool → payout → tension) crosses the delay through the tether's compliance:
+slow against the step while the tether hangs, but a taut tether is a stiff spring, so
+the pull is moved along the tether's stiffness to each sub-step's length
+(:mod:`smart_reel.tension_model`).
 
 References:
     K. Talke, PhD thesis, UC San Diego, 2021, Sec. 4.1, 6.1.4, Eq. 7.42.
