@@ -235,8 +235,7 @@ def report(paths: list[str], out: Path, settle: float | None = None) -> str:
     lines = [f'UAV-surrogate experiment (Sec. 5.1, 6.1), platform profile {runs[0].profile}: '
              + ', '.join(f'{m} {figures[m]["duration"]:.0f} s, statistics after {figures[m]["settle"]:.1f} s '
                          f'({by_mode[m][0].path})' for m in figures),
-             _row('', 'thesis (cat. / taut)', {m: m for m in figures}),
-             _row('', '', {m: '' for m in figures})]
+             _row('', 'thesis (cat. / taut)', {m: m for m in figures})]
     for name, f in fmt.items():
         lines.append(_row(name, thesis.get(name, ''), {m: f(r) for m, r in figures.items()}))
     if 'catenary' in figures and 'taut' in figures:
@@ -292,7 +291,7 @@ def _plots(out: Path, by_mode: dict[str, tuple[Run, dict]]) -> None:
     axes[0].legend(fontsize=7, loc='upper left')
     axes[1].set_ylabel('measured - model (m)')
     axes[1].set_xlabel('t (s)')
-    axes[1].legend(fontsize=8)
+    axes[1].legend(fontsize=8, loc='upper right')
     axes[0].set_title('Tether length against the catenary model (cf. Fig. 6.1)')
     fig.tight_layout()
     fig.savefig(out / 'surrogate_length.png', dpi=100)
@@ -310,11 +309,11 @@ def _plots(out: Path, by_mode: dict[str, tuple[Run, dict]]) -> None:
             axes[2].plot(r['lags'], r['corr'], color=colors[mode])
             axes[2].axvline(r['departure_lag'], color='k', lw=0.6)
     axes[0].set_ylabel('arrival angle (deg)')
-    axes[0].legend(fontsize=8)
+    axes[0].legend(fontsize=8, loc='upper right')
     axes[0].set_title('Arrival angle (cf. Fig. 6.2) and departure angle with the guide-arm dead-band (cf. Fig. 6.3)')
     axes[1].set_ylabel('departure angle (deg)')
     axes[1].set_xlabel('t (s)')
-    axes[1].legend(fontsize=8)
+    axes[1].legend(fontsize=8, loc='upper right')
     axes[2].set_xlabel('lag of the reading (s)')
     axes[2].set_ylabel('normalised xcorr')
     fig.tight_layout()
@@ -328,7 +327,7 @@ def _plots(out: Path, by_mode: dict[str, tuple[Run, dict]]) -> None:
     ax.set_ylabel('tension at the UAV (N)')
     ax.set_xlabel('t (s)')
     ax.set_title('Tether tension at the UAV surrogate, catenary vs taut (cf. Fig. 6.4)')
-    ax.legend()
+    ax.legend(loc='upper right')
     fig.tight_layout()
     fig.savefig(out / 'surrogate_tension.png', dpi=100)
     plt.close(fig)
@@ -342,7 +341,7 @@ def _plots(out: Path, by_mode: dict[str, tuple[Run, dict]]) -> None:
     ax.set_ylabel('lowest point clearance (m)')
     ax.set_xlabel('t (s)')
     ax.set_title('Fouling clearance of the lowest point')
-    ax.legend(fontsize=8)
+    ax.legend(fontsize=8, loc='upper right')
     fig.tight_layout()
     fig.savefig(out / 'surrogate_clearance.png', dpi=100)
     plt.close(fig)
