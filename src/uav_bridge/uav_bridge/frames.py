@@ -57,6 +57,30 @@ def attitude_enu_to_ned(matrix_enu_flu) -> np.ndarray:
     return ENU_FROM_NED @ np.asarray(matrix_enu_flu, dtype=float) @ FLU_FROM_FRD
 
 
+def quaternion_enu_to_ned(quaternion_xyzw) -> tuple[float, float, float, float]:
+    """Return R_NED←FRD as a quaternion (w, x, y, z) for the ENU/FLU attitude (x, y, z, w).
+
+    ENU_FROM_NED is the half turn about (1, 1, 0)/√2 and FLU_FROM_FRD the half turn about x,
+    so q_NED←FRD = q_(1,1,0) ⊗ q_ENU←FLU ⊗ q_x (scalar-last input, scalar-first output as
+    ArduPilot's quaternions), w >= 0.
+    """
+    x, y, z, w = (float(c) for c in quaternion_xyzw)
+    h = math.sqrt(0.5)
+    # q ⊗ (1, 0, 0, 0) [x-axis half turn, (x, y, z, w)] = (w, z, -y, -x)
+    x, y, z, w = w, z, -y, -x
+    # (h, h, 0, 0) ⊗ q, with the sign that makes w >= 0
+    sign = -1.0 if x + y > 0.0 else 1.0
+    return (sign * h * (-x - y), sign * h * (w + z), sign * h * (w - z), sign * h * (y - x))
+
+
+def quaternion_to_euler(w: float, x: float, y: float, z: float) -> tuple[float, float, float]:
+    """Return (roll, pitch, yaw) (rad, intrinsic Z-Y-X) of the rotation quaternion (w, x, y, z)."""
+    roll = math.atan2(2.0 * (w * x + y * z), 1.0 - 2.0 * (x * x + y * y))
+    pitch = math.asin(max(-1.0, min(1.0, 2.0 * (w * y - z * x))))
+    yaw = math.atan2(2.0 * (w * z + x * y), 1.0 - 2.0 * (y * y + z * z))
+    return roll, pitch, yaw
+
+
 def euler_ned_to_quaternion_enu(roll: float, pitch: float, yaw: float) -> np.ndarray:
     """Return the ENU/FLU quaternion (x, y, z, w) of MAVLink ATTITUDE angles.
 

@@ -1,0 +1,138 @@
+"""The JSON physics server: SITL's servo packets in over UDP, the tethered quad X's state out (no rclpy).
+
+:class:`JsonPhysicsServer` binds the physics side's UDP port (9002 + 10 per SITL instance) and
+answers every servo packet with :class:`uav_bridge.json_physics.JsonPhysics`, replying to the
+sender's address. SITL waits for each reply before it runs on, so SITL is in lockstep with
+this server and the physics time is the one clock of the run. Datagrams already queued when
+one is read are read too, and consecutive copies of one frame (SITL's resends after a
+silence pile up while nobody answers) get a single reply: answering each copy would leave a
+stale reply in SITL's socket, one frame behind for the rest of the run.
+
+The tether's force comes from a :class:`PlantTether` (the plant, stepped with the UAV's
+pose every ``period`` of physics time; its force acts from then on) or from the caller.
+"""
+
+from __future__ import annotations
+
+import select
+import socket
+from collections.abc import Callable
+from dataclasses import dataclass
+
+import numpy as np
+
+from tether_dynamics.plant import PlantInputs
+from tether_dynamics.plant import PlantOutputs
+from tether_dynamics.plant import TetherPlant
+from uav_bridge.json_physics import JsonPhysics
+from uav_bridge.json_physics import Reply
+from uav_bridge.json_physics import UavFrame
+from uav_bridge.sitl_json import SitlJsonError
+
+MAX_DATAGRAM = 2048
+
+
+@dataclass(frozen=True)
+class PlatformPose:
+    """The platform (boat frame) in world at one time."""
+
+    position: np.ndarray
+    quaternion: np.ndarray                  # (x, y, z, w), boat -> world
+    velocity: np.ndarray
+    angular_velocity: np.ndarray            # world
+
+
+def resting_platform(position=(0.0, 0.0, 0.0)) -> Callable[[float], PlatformPose]:
+    """A platform standing still at ``position`` (world), level."""
+    pose = PlatformPose(np.asarray(position, dtype=float), np.array([0.0, 0.0, 0.0, 1.0]), np.zeros(3), np.zeros(3))
+    return lambda t: pose
+
+
+class PlantTether:
+    """The plant's force on the UAV, the plant stepped every ``period`` s with the UAV prescribed."""
+
+    def __init__(self, plant: TetherPlant, platform: Callable[[float], PlatformPose], period: float) -> None:
+        if plant.config.uav.mode != 'prescribed':
+            raise ValueError('the JSON physics server integrates the UAV: the plant needs uav.mode prescribed')
+        self.plant = plant
+        self.platform = platform
+        self.period_ns = round(period * 1e9)
+        self.next_ns: int | None = None
+        self.outputs: PlantOutputs | None = None
+
+    def force(self) -> np.ndarray:
+        """The tether's force on the UAV (N, world) from the last plant step; none before it."""
+        return np.zeros(3) if self.outputs is None else self.outputs.force_on_uav
+
+    def update(self, frame: UavFrame) -> PlantOutputs | None:
+        """Step the plant when the frame reached its next step time; the outputs of a step, else None."""
+        t_ns = round(frame.t * 1e9)
+        if self.next_ns is not None and t_ns < self.next_ns:
+            return None
+        self.next_ns = (t_ns // self.period_ns + 1) * self.period_ns
+        p = self.platform(frame.t)
+        self.outputs = self.plant.step(frame.t, PlantInputs(
+            platform_position=p.position, platform_quaternion=p.quaternion, platform_velocity=p.velocity,
+            platform_angular_velocity=p.angular_velocity, uav_position=frame.position,
+            uav_quaternion=frame.quaternion, uav_velocity=frame.velocity,
+            uav_angular_velocity=frame.angular_velocity))
+        return self.outputs
+
+
+class JsonPhysicsServer:
+    """UDP loop around :class:`JsonPhysics` (see the module docstring)."""
+
+    def __init__(self, physics: JsonPhysics, port: int, host: str = '127.0.0.1',
+                 tether: PlantTether | None = None, log: Callable[[str], None] = print) -> None:
+        self.physics = physics
+        self.tether = tether
+        self.log = log
+        self.sock = socket.socket(socket.AF_INET, socket.SOCK_DGRAM)
+        self.sock.bind((host, port))
+        self.port = self.sock.getsockname()[1]
+        self.peer: tuple | None = None
+
+    def close(self) -> None:
+        """Release the port."""
+        self.sock.close()
+
+    def poll(self, timeout: float) -> list[Reply]:
+        """Wait up to ``timeout`` s for servo packets, answer them; the replies sent."""
+        readable, _, _ = select.select([self.sock], [], [], timeout)
+        if not readable:
+            return []
+        datagrams = []
+        while True:
+            try:
+                datagrams.append(self.sock.recvfrom(MAX_DATAGRAM, socket.MSG_DONTWAIT))
+            except BlockingIOError:
+                break
+        replies = []
+        for index, (data, address) in enumerate(datagrams):
+            if index + 1 < len(datagrams) and datagrams[index + 1][0] == data:
+                continue                        # a resend queued behind this copy: answer the last one
+            reply = self._answer(data, address)
+            if reply is not None:
+                replies.append(reply)
+        return replies
+
+    def _answer(self, data: bytes, address: tuple) -> Reply | None:
+        force = self.tether.force() if self.tether is not None else np.zeros(3)
+        try:
+            reply = self.physics.handle(data, force)
+        except SitlJsonError as error:
+            self.log(f'ignored a datagram from {address[0]}:{address[1]}: {error}')
+            return None
+        if address != self.peer:
+            self.log(f'SITL at {address[0]}:{address[1]} (frame {reply.packet.frame_count}, '
+                     f'{reply.packet.frame_rate} Hz, {len(reply.packet.pwm)} channels)')
+            self.peer = address
+        if reply.kind == 'restart':
+            self.log(f'SITL restarted (frame_count {reply.packet.frame_count}): the UAV is back at its start')
+        elif reply.kind == 'gap':
+            self.log(f'frame_count jumped to {reply.packet.frame_count}: {self.physics.counts.lost} frames lost')
+        if reply.kind != 'resend' and self.tether is not None:
+            self.tether.update(self.physics.frame)
+        self.sock.sendto(reply.data, address)
+        return reply
+
