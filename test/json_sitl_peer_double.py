@@ -57,8 +57,8 @@ def parse_sensors(text: str) -> dict | None:
             found[key] = float(match.group(1)) if match else 0.0
             continue
         match = (_VECTOR4 if kind == 'quaternion' else _VECTOR3).match(value)
-        if match is None:
-            return found if found else None
+        if match is None:               # SITL stops parsing here, the reply's later fields are lost
+            return None
         found[key] = np.array([float(g) for g in match.groups()])
     if 'quaternion' not in found and 'attitude' not in found:
         return None
