@@ -17,6 +17,7 @@ from pathlib import Path
 
 import psutil
 
+from uav_bridge.sitl_json import physics_port
 from uav_bridge.sitl_runner import SitlConfig
 from uav_bridge.sitl_runner import SitlRunner
 
@@ -52,15 +53,25 @@ def _port_free(port: int) -> bool:
     return True
 
 
+def _udp_port_free(port: int) -> bool:
+    with socket.socket(socket.AF_INET, socket.SOCK_DGRAM) as sock:
+        try:
+            sock.bind(('127.0.0.1', port))
+        except OSError:
+            return False
+    return True
+
+
 class SitlProcess(SitlRunner):
     """A SITL runner on a free instance, released by :meth:`close`."""
 
-    def __init__(self, workdir: Path, speedup: float = 10.0) -> None:
+    def __init__(self, workdir: Path, speedup: float = 10.0, model: str = '+', parameters: tuple = ()) -> None:
         self._lock_file = None
         instance = self._claim_instance()
         binary = sitl_binary()
         defaults = Path(os.environ.get('ARDUPILOT_SITL_DEFAULTS') or binary.parent / 'copter.parm')
-        super().__init__(SitlConfig(binary, defaults, workdir, instance=instance, speedup=speedup))
+        super().__init__(SitlConfig(binary, defaults, workdir, instance=instance, speedup=speedup, model=model,
+                                    parameters=parameters))
 
     def _claim_instance(self) -> int:
         for instance in range(1, 60):
@@ -71,7 +82,7 @@ class SitlProcess(SitlRunner):
                 handle.close()
                 continue
             base = 5760 + 10 * instance
-            if all(_port_free(port) for port in (base, base + 2, base + 3)):
+            if all(_port_free(port) for port in (base, base + 2, base + 3)) and _udp_port_free(physics_port(instance)):
                 self._lock_file = handle
                 return instance
             handle.close()

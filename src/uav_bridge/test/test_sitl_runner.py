@@ -23,6 +23,19 @@ def test_command_line_and_port(tmp_path):
     assert runner.exit_status() is None
 
 
+def test_parameters_override_the_defaults_file(tmp_path):
+    defaults = tmp_path / 'copter.parm'
+    defaults.write_text('FRAME_CLASS 1\nFRAME_TYPE\t0\n# comment\nMOT_THST_EXPO 0.65\n')
+    runner = SitlRunner(SitlConfig(Path('/bin/true'), defaults, tmp_path / 'run', model='JSON:127.0.0.1',
+                                   parameters=(('FRAME_TYPE', 1), ('SIM_RATE_HZ', 400))))
+    runner.start()
+    runner.process.wait(timeout=20)
+    used = tmp_path / 'run' / 'defaults.parm'
+    assert runner.command()[runner.command().index('--defaults') + 1] == str(used)
+    assert used.read_text() == 'FRAME_CLASS 1\n# comment\nMOT_THST_EXPO 0.65\nFRAME_TYPE 1\nSIM_RATE_HZ 400\n'
+    assert defaults.read_text().startswith('FRAME_CLASS 1\nFRAME_TYPE\t0')
+
+
 def test_refusals_name_the_file(tmp_path, monkeypatch):
     monkeypatch.delenv('ARDUPILOT_SITL_BIN', raising=False)
     with pytest.raises(SitlError, match='ARDUPILOT_SITL_BIN'):

@@ -9,6 +9,12 @@ function the plant and the built-in UAV integrate; the tether's force (N, world)
 of :meth:`JsonPhysics.handle`, held over the frame (the caller takes it from the plant after
 the previous frame: one frame of explicit delay).
 
+Time step. A frame is ``1 / frame_rate`` of physics time: the rate the packet asks for
+(SITL's ``SIM_RATE_HZ``, which SITL walks towards from 1200 Hz by 1 Hz per frame after
+start), or a fixed ``frame_rate`` of the configuration, which SITL then adopts (it advances
+its clock by the timestamps' change and sets its frame rate from it): with a fixed rate whose
+period divides the graph's tick, every tick falls on a frame.
+
 Frames. SITL increments ``frame_count`` only after it parsed a reply, so:
 
 * the count one above the last one answered (or any count first): a new frame, stepped;
@@ -62,6 +68,7 @@ class JsonPhysicsConfig:
     gravity: float = GRAVITY                    # m/s^2
     dt: float = 1e-3                            # s, largest body integration step
     start_time: float = 0.0                     # s, physics time before the first frame
+    frame_rate: int = 0                         # Hz, physics frames per s; 0: the rate each packet asks for
 
 
 @dataclass(frozen=True)
@@ -164,7 +171,7 @@ class JsonPhysics:
         return Reply(kind, packet, reply)
 
     def _step(self, packet: ServoPacket, force: np.ndarray) -> None:
-        frame_ns = round(1e9 / packet.frame_rate)
+        frame_ns = round(1e9 / (self.config.frame_rate or packet.frame_rate))
         frame_dt = frame_ns * 1e-9
         n_sub = max(1, math.ceil(frame_dt / self.config.dt - 1e-9))
         dt = frame_dt / n_sub

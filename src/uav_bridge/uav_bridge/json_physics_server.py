@@ -8,8 +8,9 @@ one is read are read too, and consecutive copies of one frame (SITL's resends af
 silence pile up while nobody answers) get a single reply: answering each copy would leave a
 stale reply in SITL's socket, one frame behind for the rest of the run.
 
-The tether's force comes from a :class:`PlantTether` (the plant, stepped with the UAV's
-pose every ``period`` of physics time; its force acts from then on) or from the caller.
+The tether's force comes from a :class:`PlantTether` (the plant in the same process, stepped
+with the UAV's pose every ``period`` of physics time; its force acts from then on) or a
+:class:`HeldForce` the caller sets (the node: the plant node's wrench).
 """
 
 from __future__ import annotations
@@ -79,11 +80,25 @@ class PlantTether:
         return self.outputs
 
 
+class HeldForce:
+    """A tether force set by the caller (the node: the plant's latest wrench), held until set again."""
+
+    def __init__(self) -> None:
+        self.value = np.zeros(3)
+
+    def force(self) -> np.ndarray:
+        """The force on the UAV, N, world."""
+        return self.value
+
+    def update(self, frame: UavFrame) -> None:
+        """Nothing to step: the caller sets :attr:`value`."""
+
+
 class JsonPhysicsServer:
     """UDP loop around :class:`JsonPhysics` (see the module docstring)."""
 
     def __init__(self, physics: JsonPhysics, port: int, host: str = '127.0.0.1',
-                 tether: PlantTether | None = None, log: Callable[[str], None] = print) -> None:
+                 tether: PlantTether | HeldForce | None = None, log: Callable[[str], None] = print) -> None:
         self.physics = physics
         self.tether = tether
         self.log = log

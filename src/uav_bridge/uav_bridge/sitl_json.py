@@ -7,7 +7,7 @@ sender's address. The packet is little-endian ``<HHI16H`` (40 bytes, magic 18458
 step SITL asks for), frame_count (incremented only after SITL parsed a reply, so a resend
 carries the same count; 0 again after a SITL restart), and the PWM of each channel in µs.
 
-The reply is one line of JSON, preceded and terminated by ``\\n``: SITL turns newlines into
+The reply is one line of JSON, preceded and terminated by a newline: SITL turns newlines into
 string ends and parses the text between the last two. Its parser finds each key by substring
 search and then skips two characters (the closing quote and the colon), so a key is written
 ``"key":value`` with no blank before or after the colon, and vectors as ``[a,b,c]``. The

@@ -36,6 +36,12 @@ class SitlConfig:
     model: str = '+'
     home: str = ''                  # lat,lng,alt,yaw; empty: SITL's default (Canberra model field)
     wipe: bool = True               # start from default parameters (-w)
+    parameters: tuple = ()          # (name, value) pairs overriding the defaults file
+
+    @property
+    def defaults_used(self) -> Path:
+        """The defaults file SITL reads: ``defaults``, or its copy with ``parameters`` in the working directory."""
+        return self.workdir / 'defaults.parm' if self.parameters else self.defaults
 
     @property
     def port(self) -> int:
@@ -72,7 +78,7 @@ class SitlRunner:
     def command(self) -> list[str]:
         """The command line that starts SITL."""
         c = self.config
-        cmd = [str(c.binary), '--model', c.model, '--speedup', f'{c.speedup:g}', '--defaults', str(c.defaults),
+        cmd = [str(c.binary), '--model', c.model, '--speedup', f'{c.speedup:g}', '--defaults', str(c.defaults_used),
                f'-I{c.instance}']
         if c.home:
             cmd += ['--home', c.home]
@@ -81,6 +87,7 @@ class SitlRunner:
     def start(self, wipe: bool | None = None) -> None:
         """Start SITL; ``wipe`` overrides the configured parameter wipe for this start."""
         self.config.workdir.mkdir(parents=True, exist_ok=True)
+        self._write_defaults()
         cmd = self.command()
         if wipe is False and '-w' in cmd:
             cmd.remove('-w')
@@ -88,6 +95,17 @@ class SitlRunner:
             self.process = subprocess.Popen(cmd, cwd=self.config.workdir, stdout=log, stderr=subprocess.STDOUT,
                                             stdin=subprocess.DEVNULL, start_new_session=True,
                                             preexec_fn=_die_with_parent)
+
+    def _write_defaults(self) -> None:
+        """The defaults file with ``parameters`` in place of (or after) the lines that set them."""
+        c = self.config
+        if not c.parameters:
+            return
+        override = {name.upper(): value for name, value in c.parameters}
+        lines = [line for line in c.defaults.read_text().splitlines()
+                 if not line.split() or line.split()[0].upper() not in override]
+        lines += [f'{name} {value:g}' for name, value in override.items()]
+        c.defaults_used.write_text('\n'.join(lines) + '\n')
 
     def exit_status(self) -> int | None:
         """SITL's exit status once it ended, None while it runs (or before it started)."""
