@@ -74,6 +74,7 @@ class PeerLog:
     parsed: list = field(default_factory=list)      # the parsed replies, in order
     unparsed: int = 0               # replies SITL's parser would drop
     clock: float = 0.0              # SITL's clock, s (the sum of timestamp changes)
+    repeated: int = 0               # replies with the previous reply's timestamp (SITL counts them as frames)
     resets: int = 0                 # timestamps that went backwards
 
 
@@ -133,6 +134,8 @@ class SitlJsonPeerDouble:
             self.log.unparsed += 1
             return None
         timestamp = fields['timestamp']
+        if timestamp == self.last_timestamp and self.frame_count:
+            self.log.repeated += 1
         if timestamp < self.last_timestamp:
             self.log.resets += 1
         else:

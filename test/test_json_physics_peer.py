@@ -84,8 +84,22 @@ def test_silence_resends_pile_up_and_get_one_reply(link):
     for _ in range(5):
         peer.frame(serve(server))
     counts = server.physics.counts
-    assert (counts.stepped, counts.resent, counts.lost) == (7, 0, 0)
-    assert peer.log.clock == pytest.approx(7 / 400)
+    assert (counts.stepped, counts.resent, counts.lost) == (7, 3, 0)        # 4 copies: 1 stepped, 3 from the cache
+    assert peer.log.clock == pytest.approx(7 / 400) and peer.log.repeated == 0
+
+
+def test_two_frames_queued_get_one_answer(link):
+    # SITL took a repeated reply as the answer to frame k + 1 and sent k + 2 without waiting:
+    # both frames are stepped, only k + 2 is answered, and SITL is back in step.
+    server, peer, _ = link
+    peer.frame(serve(server))
+    peer.send()
+    peer.frame_count += 1
+    peer.send()
+    assert len(server.poll(1.0)) == 1
+    fields = peer.receive(0.5)
+    assert fields['timestamp'] == pytest.approx(3 / 400) and peer.receive(0.05) is None
+    assert server.physics.counts.stepped == 3
 
 
 def test_sitl_restart_resets_the_uav_and_keeps_the_time_axis(link):

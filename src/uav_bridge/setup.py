@@ -24,6 +24,7 @@ setup(
             'mission = uav_bridge.mission_node:main',
             'sitl = uav_bridge.sitl_node:main',
             'builtin_uav = uav_bridge.builtin_uav_node:main',
+            'json_physics = uav_bridge.json_physics_node:main',
         ],
     },
 )

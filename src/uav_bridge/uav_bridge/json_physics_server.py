@@ -3,10 +3,16 @@
 :class:`JsonPhysicsServer` binds the physics side's UDP port (9002 + 10 per SITL instance) and
 answers every servo packet with :class:`uav_bridge.json_physics.JsonPhysics`, replying to the
 sender's address. SITL waits for each reply before it runs on, so SITL is in lockstep with
-this server and the physics time is the one clock of the run. Datagrams already queued when
-one is read are read too, and consecutive copies of one frame (SITL's resends after a
-silence pile up while nobody answers) get a single reply: answering each copy would leave a
-stale reply in SITL's socket, one frame behind for the rest of the run.
+this server and the physics time is the one clock of the run.
+
+Datagrams already queued when one is read are read too; each is handled in order (new frames
+stepped, resends answered from the cache) and only the last one is answered. SITL takes
+any reply as the answer to the packet it is waiting for, so an extra reply in its socket
+leaves it one frame behind for the rest of the run: resends that piled up during a silence
+must get one answer, and when a resend raced a late reply (SITL then consumed the copy as
+the next frame's answer and sent two frames without waiting), the two frames arrive
+together and the single answer to the newer one puts SITL back in step. SITL's clock is
+unaffected either way (a repeated reply carries the same timestamp).
 
 The tether's force comes from a :class:`PlantTether` (the plant in the same process, stepped
 with the UAV's pose every ``period`` of physics time; its force acts from then on) or a
@@ -122,14 +128,10 @@ class JsonPhysicsServer:
                 datagrams.append(self.sock.recvfrom(MAX_DATAGRAM, socket.MSG_DONTWAIT))
             except BlockingIOError:
                 break
-        replies = []
-        for index, (data, address) in enumerate(datagrams):
-            if index + 1 < len(datagrams) and datagrams[index + 1][0] == data:
-                continue                        # a resend queued behind this copy: answer the last one
-            reply = self._answer(data, address)
-            if reply is not None:
-                replies.append(reply)
-        return replies
+        replies = [reply for data, address in datagrams if (reply := self._answer(data, address)) is not None]
+        if replies:
+            self.sock.sendto(replies[-1].data, self.peer)
+        return replies[-1:]
 
     def _answer(self, data: bytes, address: tuple) -> Reply | None:
         force = self.tether.force() if self.tether is not None else np.zeros(3)
@@ -148,6 +150,5 @@ class JsonPhysicsServer:
             self.log(f'frame_count jumped to {reply.packet.frame_count}: {self.physics.counts.lost} frames lost')
         if reply.kind != 'resend' and self.tether is not None:
             self.tether.update(self.physics.frame)
-        self.sock.sendto(reply.data, address)
         return reply
 

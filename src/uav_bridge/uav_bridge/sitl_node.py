@@ -25,6 +25,20 @@ from uav_bridge.sitl_runner import SitlRunner
 from uav_bridge.sitl_runner import locate_binary
 
 
+def parse_parameters(items: list[str]) -> tuple[tuple[str, float], ...]:
+    """``NAME=VALUE`` strings as (name, value) pairs; ValueError naming a malformed one."""
+    pairs = []
+    for item in items:
+        name, sep, value = item.partition('=')
+        try:
+            pairs.append((name.strip(), float(value)))
+        except ValueError:
+            sep = ''
+        if not sep or not name.strip():
+            raise ValueError(f'parameter parameters: {item!r} is not NAME=VALUE with a number')
+    return tuple(pairs)
+
+
 class SitlNode(Node):
     """Starts SITL, watches it, kills it at the end."""
 
@@ -37,7 +51,7 @@ class SitlNode(Node):
             workdir = Path(params['workdir'] or tempfile.mkdtemp(prefix='tethersim-sitl-'))
             self.runner = SitlRunner(SitlConfig(binary, defaults, workdir, instance=params['instance'],
                                                 speedup=params['speedup'], model=params['model'],
-                                                home=params['home']))
+                                                home=params['home'], parameters=parse_parameters(params['parameters'])))
         except (SitlError, ValueError) as error:
             raise ConfigurationError(str(error)) from None
         self.runner.start()

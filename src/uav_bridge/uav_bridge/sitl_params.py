@@ -14,6 +14,8 @@ PARAMETERS: tuple[ParamSpec, ...] = (
               low=0.1, high=100.0, read_only=True),
     ParamSpec('model', '+', 'SITL vehicle model (+: built-in quadcopter; JSON:IP for external physics)',
               read_only=True),
+    ParamSpec('parameters', [], 'ArduPilot parameters NAME=VALUE overriding the defaults file (e.g. FRAME_TYPE=1 '
+              'for the JSON physics\' quad X)', item_type=str, read_only=True),
     ParamSpec('home', '', 'home location lat,lng,alt,yaw; empty: SITL\'s default', read_only=True),
     ParamSpec('workdir', '', 'SITL\'s working directory (eeprom, logs); empty: a new temporary directory',
               read_only=True),

@@ -1,0 +1,98 @@
+"""The json_physics node in lockstep: SITL (the test double) runs only as far as the graph's /clock."""
+
+from __future__ import annotations
+
+import signal
+import threading
+
+import pytest
+
+rclpy = pytest.importorskip('rclpy')
+
+from rosgraph_msgs.msg import Clock  # noqa: E402
+
+from json_sitl_peer_double import SitlJsonPeerDouble  # noqa: E402
+from sitl_process import _udp_port_free  # noqa: E402
+from tether_common.constants import GRAVITY  # noqa: E402
+from tether_common.qos import CLOCK  # noqa: E402
+from test_uav_bridge_node import Probe  # noqa: E402
+from test_uav_bridge_node import ros_domain  # noqa: E402,F401 - fixture
+from test_uav_bridge_peer import wait_until  # noqa: E402
+from test_uav_mission_node import _start  # noqa: E402
+from uav_bridge.sitl_json import physics_port  # noqa: E402
+
+FRAME_RATE = 800
+
+
+def _free_instance() -> int:
+    for instance in range(59, 30, -1):
+        if _udp_port_free(physics_port(instance)):
+            return instance
+    raise RuntimeError('no free JSON physics port')
+
+
+class SitlThread:
+    """The SITL double sending frames as fast as it gets replies, resending after silence."""
+
+    def __init__(self, port: int) -> None:
+        self.peer = SitlJsonPeerDouble(port, frame_rate=FRAME_RATE, resend_after=0.1)
+        self.stop = threading.Event()
+        self.thread = threading.Thread(target=self.run, daemon=True)
+        self.thread.start()
+
+    def run(self) -> None:
+        while not self.stop.is_set():
+            self.peer.send()
+            while not self.stop.is_set() and self.peer.receive() is None:
+                self.peer.log.resends += 1
+                self.peer.send()
+
+    def close(self) -> None:
+        self.stop.set()
+        self.thread.join(5)
+        self.peer.close()
+
+
+def test_sitl_advances_only_with_the_graph_clock(ros_domain):  # noqa: F811
+    instance = _free_instance()
+    process = _start('uav_bridge.json_physics_node', f'instance:={instance}', 'wrench_rate:=0.0',
+                     'start:=[1.0, 2.0, 0.5]', domain=ros_domain)
+    probe = Probe()
+    clock = probe.node.create_publisher(Clock, '/clock', CLOCK)
+    sitl = SitlThread(physics_port(instance))
+
+    def advance(seconds: float, until, what: str) -> None:
+        """Publish /clock = ``seconds`` (again and again, until it is heard) until ``until()``."""
+        msg = Clock()
+        msg.clock.sec, msg.clock.nanosec = divmod(round(seconds * 1e9), 1_000_000_000)
+
+        def heard() -> bool:
+            clock.publish(msg)
+            return until()
+        wait_until(heard, timeout=60, what=what)
+
+    try:
+        wait_until(lambda: sitl.peer.log.resends > 0, timeout=60, what='SITL resending while the clock stands')
+        assert sitl.peer.frame_count == 0                       # no tick yet: no reply
+        advance(0.5, lambda: probe.got['imu'] and probe.got['imu'][-1].header.stamp.nanosec == 500_000_000,
+                'the tick at 0.5 s')
+        wait_until(lambda: sitl.peer.log.resends > 3, timeout=60, what='SITL waiting again')
+        # SITL stopped where the clock stopped (a reply that raced a resend may count once more in SITL)
+        assert 0.5 * FRAME_RATE <= sitl.peer.frame_count <= 0.5 * FRAME_RATE + sitl.peer.log.repeated
+        assert sitl.peer.log.clock == pytest.approx(0.5)        # and its clock is the graph's sim time
+        stamps = [msg.header.stamp.nanosec for msg in probe.got['pose']]
+        assert stamps == [10_000_000 * k for k in range(1, 51)]            # one pose per tick, none lost
+        imu = probe.got['imu'][-1]
+        assert imu.header.frame_id == 'uav' and imu.linear_acceleration.z == pytest.approx(GRAVITY)   # FLU, at rest
+        pose = probe.got['pose'][-1].pose.position
+        assert (pose.x, pose.y, pose.z) == pytest.approx((1.0, 2.0, 0.5))
+        sitl.peer.pwm[:4] = [1000] * 4
+        advance(1.0, lambda: sitl.peer.log.clock == pytest.approx(1.0), 'SITL at 1.0 s')
+        assert FRAME_RATE <= sitl.peer.frame_count <= FRAME_RATE + sitl.peer.log.repeated
+    finally:
+        sitl.close()
+        probe.close()
+        process.send_signal(signal.SIGINT)
+        _, err = process.communicate(timeout=20)
+        print(err[-3000:])
+    assert process.returncode == 0 and 'Traceback' not in err, err
