@@ -128,10 +128,13 @@ class JsonPhysicsServer:
                 datagrams.append(self.sock.recvfrom(MAX_DATAGRAM, socket.MSG_DONTWAIT))
             except BlockingIOError:
                 break
-        replies = [reply for data, address in datagrams if (reply := self._answer(data, address)) is not None]
-        if replies:
-            self.sock.sendto(replies[-1].data, self.peer)
-        return replies[-1:]
+        answered = [(reply, address) for data, address in datagrams
+                     if (reply := self._answer(data, address)) is not None]
+        if not answered:
+            return []
+        reply, address = answered[-1]
+        self.sock.sendto(reply.data, address)
+        return [reply]
 
     def _answer(self, data: bytes, address: tuple) -> Reply | None:
         force = self.tether.force() if self.tether is not None else np.zeros(3)
