@@ -15,6 +15,8 @@ arrival:
   link waits for, latest STATUSTEXT lines, offset of the graph clock to the autopilot's
   time since boot.
 
+The pose, twist, imu and global topics live under ``telemetry_namespace`` (default ``/uav``;
+``/autopilot`` in scenes where the JSON physics node publishes the true ``/uav/pose``).
 Streams use the sensor-data QoS. Commands: services ``/uav/set_mode`` (tether_msgs/SetMode),
 ``/uav/arm`` (std_srvs/SetBool: true arms, retrying with back-off while the autopilot
 refuses, false disarms), ``/uav/takeoff`` (tether_msgs/Takeoff), ``/uav/land``
@@ -82,10 +84,13 @@ class MavlinkBridge(Node):
             stream_timeout=params['stream_timeout'], status_period=params['status_period'],
             command_timeout=params['command_timeout'], arm_timeout=params['arm_timeout'],
             statustext_lines=params['statustext_lines'])
-        self.pose_pub = self.create_publisher(PoseStamped, '/uav/pose', SENSOR)
-        self.twist_pub = self.create_publisher(TwistStamped, '/uav/twist', SENSOR)
-        self.imu_pub = self.create_publisher(Imu, '/uav/imu', SENSOR)
-        self.global_pub = self.create_publisher(NavSatFix, '/uav/global', SENSOR)
+        telemetry = params['telemetry_namespace'].rstrip('/')
+        if not telemetry.startswith('/'):
+            raise ConfigurationError(f'parameter telemetry_namespace: expected an absolute namespace, got {telemetry!r}')
+        self.pose_pub = self.create_publisher(PoseStamped, f'{telemetry}/pose', SENSOR)
+        self.twist_pub = self.create_publisher(TwistStamped, f'{telemetry}/twist', SENSOR)
+        self.imu_pub = self.create_publisher(Imu, f'{telemetry}/imu', SENSOR)
+        self.global_pub = self.create_publisher(NavSatFix, f'{telemetry}/global', SENSOR)
         self.state_pub = self.create_publisher(UavState, '/uav/state', LATCHED)
         try:
             self.session = MavlinkSession(config, self.on_sample, self.on_status, self.on_log,

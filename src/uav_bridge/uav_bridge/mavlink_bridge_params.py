@@ -12,6 +12,9 @@ from tether_common.parameters import ParamSpec
 PARAMETERS: tuple[ParamSpec, ...] = (
     ParamSpec('url', 'tcp:127.0.0.1:5760', 'MAVLink link: tcp:HOST:PORT (ArduPilot SITL serves 5760 + 10 x instance), '
               'udp:HOST:PORT / udpin:HOST:PORT (listen), udpout:HOST:PORT (send to)', read_only=True),
+    ParamSpec('telemetry_namespace', '/uav', 'namespace of the pose, twist, imu and global topics (the state, '
+              'services and setpoint stay under /uav); /autopilot where the JSON physics node publishes the true '
+              '/uav/pose', read_only=True),
     ParamSpec('origin', [0.0, 0.0, 0.0], 'position of the autopilot\'s local origin (EKF origin, NED 0) in world, ENU',
               'm', read_only=True),
     ParamSpec('system_id', 255, 'MAVLink system id of the bridge', low=1, high=255, read_only=True),
