@@ -4,8 +4,10 @@ Sequence: the recorder starts first and waits until every node of the scene is i
 graph and subscribed to; then /clock starts, once every node has subscribed to it and
 joined the lockstep, so the bag holds all topics from the first message. /clock advances
 in lockstep (:mod:`tether_bringup.barrier`): the next value is published once every node
-and the recorder have acked the current one, and no sooner than the requested real-time
-factor allows (``rate: max``: as soon as they have). The run ends at the scene's duration,
+and the recorder have acked the value ``lockstep_window`` before it, and no sooner than the
+requested real-time factor allows (``rate: max``: as soon as they have). Within the window a
+node runs the ticks whose inputs have arrived, so nodes on different cores overlap their
+work instead of taking turns; what each tick selects is fixed by stamps, not by the window. The run ends at the scene's duration,
 on Ctrl-C or SIGTERM, or when a node dies; in every case the nodes are stopped, the
 recorder stops last and finalizes the bag, and no process is left behind.
 """
@@ -37,6 +39,7 @@ from tether_bringup.errors import RunDirectoryError
 from tether_bringup.errors import RunError
 from tether_bringup.processes import ChildProcess
 from tether_bringup.recorder_params import DEFAULT_EXCLUDE
+from tether_bringup.scene import LOCKSTEP_WINDOW
 from tether_bringup.scene import NodeConfig
 from tether_bringup.sim_clock import rate_text
 from tether_common.lockstep import NODES_VARIABLE
@@ -59,6 +62,7 @@ class RunOptions:
     exclude: tuple[str, ...] = DEFAULT_EXCLUDE
     reports: tuple[str, ...] = ()
     title: str = ''
+    lockstep_window: float = LOCKSTEP_WINDOW
 
 
 class _Stop(Exception):
@@ -119,7 +123,7 @@ def execute(nodes: list[NodeConfig], source, options: RunOptions) -> int:
         _wait_for(lambda: barrier.reached(0), READY_TIMEOUT, children, executor,
                   lambda: f'{", ".join(barrier.behind(0))} did not join the lockstep within {{:.0f}} s '
                           '(a node joins once each of its inputs has a publisher)')
-        failure = _advance(source, barrier, children, executor, options.title)
+        failure = _advance(source, barrier, children, executor, options)
         if failure:
             status = 1
     except _Stop as stop:
@@ -226,13 +230,15 @@ def _wait_for_barrier(barrier: Barrier, time_ns: int, children, executor) -> Non
                            f'{", ".join(behind)} within {STALL_TIMEOUT:.0f} s; last log lines:\n{tails}')
 
 
-def _advance(source, barrier: Barrier, children: list[ChildProcess], executor, title: str) -> str | None:
+def _advance(source, barrier: Barrier, children: list[ChildProcess], executor, options: RunOptions) -> str | None:
+    """Publish /clock step by step, each once the barrier has reached the window behind it; then wait for the last."""
+    window_ns = round(options.lockstep_window * 1e9)
     next_check = time.monotonic()
     interactive = sys.stderr.isatty()
     last_line = 0.0
     while True:
         try:
-            _wait_for_barrier(barrier, source.published_ns, children, executor)
+            _wait_for_barrier(barrier, source.published_ns - window_ns, children, executor)
         except RunError as error:
             return str(error)
         if not source.step():
@@ -246,10 +252,14 @@ def _advance(source, barrier: Barrier, children: list[ChildProcess], executor, t
                 return str(error)
             if interactive or now - last_line >= 5.0:
                 last_line = now
-                _progress(f'{title}: sim {source.sim_time:8.2f} / {source.duration:.2f} s'
+                _progress(f'{options.title}: sim {source.sim_time:8.2f} / {source.duration:.2f} s'
                           f'   real-time factor {source.achieved_rate():6.2f}', interactive)
     if interactive:
         print(file=sys.stderr)
+    try:
+        _wait_for_barrier(barrier, source.published_ns, children, executor)
+    except RunError as error:
+        return str(error)
     return None
 
 

@@ -94,7 +94,7 @@ def _run(args: argparse.Namespace) -> int:
     with reserved_domain(args.domain_id) as domain_id:
         options = RunOptions(out_dir=args.out or _default_out(scene.name), domain_id=domain_id,
                              discovery=args.discovery, exclude=tuple(scene.exclude), reports=tuple(scene.reports),
-                             title=f'tethersim run {scene.name}')
+                             title=f'tethersim run {scene.name}', lockstep_window=scene.lockstep_window)
         return execute(scene.nodes, source, options)
 
 

@@ -6,6 +6,7 @@ A scene is YAML::
     duration: 60.0            # s of sim time
     rate: 1.0                 # real-time factor (10 = ten times faster than real time), or max
     clock_step: 0.01          # s of sim time between /clock ticks
+    lockstep_window: 0.05     # s of sim time /clock may lead the slowest node's ack
     nodes:
       platform:               # node name
         package: psr_platform_sim
@@ -44,11 +45,18 @@ from tether_bringup.sim_clock import MAX_RATE
 from tether_common.parameters import ParamSpec
 from tether_common.parameters import spec_table
 
+LOCKSTEP_WINDOW = 0.05
+"""Default lead of /clock over the slowest ack, s. A producer is then at most window + clock_step
+ahead of a consumer: at 100 Hz, far fewer messages than a lockstep input's reader keeps
+(``tether_common.lockstep.INPUT_DEPTH``) or the recorder's queue holds."""
+
 TOP_LEVEL = {
     'description': ParamSpec('description', '', 'One-line description of the scene'),
     'duration': ParamSpec('duration', 60.0, 'Simulated time', 's', 1e-3, 1e7),
     'rate': ParamSpec('rate', 1.0, 'Real-time factor (or max: as fast as the slowest node)', '', 1e-3, 1000.0),
     'clock_step': ParamSpec('clock_step', 0.01, 'Sim time between /clock ticks', 's', 1e-4, 1.0),
+    'lockstep_window': ParamSpec('lockstep_window', LOCKSTEP_WINDOW, 'Sim time /clock may lead the slowest node\'s ack '
+                                 '(nodes on different cores overlap their ticks within it)', 's', 0.0, 0.1),
     'nodes': None,
     'record': None,
     'reports': ParamSpec('reports', [], 'Report functions module:function', item_type=str),
@@ -81,6 +89,7 @@ class Scene:
     rate: float
     clock_step: float
     nodes: list[NodeConfig]
+    lockstep_window: float = LOCKSTEP_WINDOW
     exclude: list[str] = field(default_factory=lambda: list(DEFAULT_EXCLUDE))
     reports: list[str] = field(default_factory=list)
 
@@ -180,6 +189,7 @@ def load_scene(path: str | Path) -> Scene:
 
     return Scene(path=path, name=path.stem, description=values['description'],
                  duration=values['duration'], rate=values['rate'], clock_step=values['clock_step'],
+                 lockstep_window=values['lockstep_window'],
                  nodes=nodes, exclude=exclude, reports=values['reports'])
 
 

@@ -42,11 +42,15 @@ A node's tasks share one :class:`Lockstep`, so their ticks interleave in that fi
             self.command_pub.publish(command)
 
 Inputs are subscribed reliable (a lost message would stall the barrier); their producers
-publish reliable too (:mod:`tether_common.qos`).
+publish reliable too (:mod:`tether_common.qos`). The time master lets ``/clock`` lead the
+slowest ack by a window of a few ticks (the scene's ``lockstep_window``), so a producer may
+be that far ahead of a consumer busy in a long tick: an input's reader keeps at least
+``INPUT_DEPTH`` messages, whatever depth its producer's profile names.
 """
 
 from __future__ import annotations
 
+import copy
 import os
 import time
 from collections import deque
@@ -74,6 +78,7 @@ NODES_VARIABLE = 'TETHERSIM_NODES'
 JOIN_CHECK_PERIOD = 0.05
 JOIN_SETTLE = 0.5
 STALL_LOG_PERIOD = 5.0
+INPUT_DEPTH = 100
 NS = 1_000_000_000
 
 
@@ -240,8 +245,10 @@ class Lockstep:
         stream = self._streams.get(spec.topic)
         if stream is None:
             stream = _Stream(spec.topic, msg_type, period_ns(spec.period))
+            qos = copy.copy(spec.qos)
+            qos.depth = max(qos.depth, INPUT_DEPTH)
             stream.subscription = self._node.create_subscription(
-                msg_type, spec.topic, lambda msg: self._on_input(stream, msg), spec.qos)
+                msg_type, spec.topic, lambda msg: self._on_input(stream, msg), qos)
             self._streams[spec.topic] = stream
         elif stream.period_ns != period_ns(spec.period) or stream.msg_type is not msg_type:
             raise ValueError(f'input {spec.topic}: declared twice with different types or periods')

@@ -19,11 +19,14 @@ types): rcl's own log line about them is replaced by the one line.
 
 from __future__ import annotations
 
+import cProfile
 import os
 import re
 import sys
 import tempfile
+import time
 from collections.abc import Callable
+from contextlib import contextmanager
 from pathlib import Path
 
 import rclpy
@@ -38,6 +41,7 @@ from rclpy.node import Node
 
 SPIN_TIMEOUT = 0.5
 EXECUTOR_VARIABLE = 'TETHERSIM_EXECUTOR'
+PROFILE_VARIABLE = 'TETHERSIM_PROFILE'
 
 
 class ConfigurationError(Exception):
@@ -72,8 +76,9 @@ def run_node(factory: Callable[[], Node], args: list[str] | None = None,
         node = factory()
         executor = executor() if executor is not None else make_executor()
         executor.add_node(node)
-        while rclpy.ok():
-            executor.spin_once(timeout_sec=SPIN_TIMEOUT)
+        with _profiled(node):
+            while rclpy.ok():
+                executor.spin_once(timeout_sec=SPIN_TIMEOUT)
     except (KeyboardInterrupt, ExternalShutdownException):
         pass
     except (ConfigurationError, ParameterException) as error:
@@ -89,6 +94,23 @@ def run_node(factory: Callable[[], Node], args: list[str] | None = None,
             node.destroy_node()
         rclpy.try_shutdown()
     return status
+
+
+@contextmanager
+def _profiled(node: Node):
+    """Profile the spin (CPU time) with cProfile into ``$TETHERSIM_PROFILE/<node name>.prof`` when that variable is set."""
+    directory = os.environ.get(PROFILE_VARIABLE)
+    if not directory:
+        yield
+        return
+    profile = cProfile.Profile(time.process_time)
+    profile.enable()
+    try:
+        yield
+    finally:
+        profile.disable()
+        Path(directory).mkdir(parents=True, exist_ok=True)
+        profile.dump_stats(str(Path(directory) / f'{node.get_name()}.prof'))
 
 
 def _init(args: list[str] | None) -> str | None:
