@@ -10,51 +10,34 @@ logged at its own stamp.
 
 from __future__ import annotations
 
-import os
-import subprocess
-import sys
-
 import pytest
 from geometry_msgs.msg import PointStamped
 from geometry_msgs.msg import Vector3Stamped
-from mcap.reader import make_reader
 from rclpy.serialization import deserialize_message
 
 from tether_common.lockstep import stamp_ns
 
 from tethersim_testing import SCENES
+from tethersim_testing import bag_payloads
+from tethersim_testing import busy_cores
 from tethersim_testing import tethersim
 
 SCENE = SCENES / 'closed_loop.yaml'
 NS = 1_000_000_000
 
 
-def _payloads(run_dir):
-    """Per topic, the serialized messages in the order the recorder received them, and their log times."""
-    topics = {}
-    with open(run_dir / 'bag' / 'bag_0.mcap', 'rb') as stream:
-        for _, channel, message in make_reader(stream).iter_messages(log_time_order=False):
-            topics.setdefault(channel.topic, []).append((message.data, message.log_time))
-    return topics
-
-
 def _run(out, *args):
     result = tethersim('run', str(SCENE), '--out', str(out), *args, timeout=300)
     assert result.returncode == 0, result.stderr
-    return _payloads(out)
+    return bag_payloads(out)
 
 
 @pytest.fixture(scope='module')
 def runs(tmp_path_factory):
     base = tmp_path_factory.mktemp('lockstep')
     recorded = {'rate 1': _run(base / 'rate1', '--rate', '1'), 'rate 20': _run(base / 'rate20', '--rate', '20')}
-    burners = [subprocess.Popen([sys.executable, '-c', 'while True: pass']) for _ in range(os.cpu_count() or 2)]
-    try:
+    with busy_cores():
         recorded['max, cores busy'] = _run(base / 'loaded', '--rate', 'max')
-    finally:
-        for burner in burners:
-            burner.kill()
-            burner.wait()
     return recorded
 
 

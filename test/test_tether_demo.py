@@ -1,4 +1,5 @@
-"""The tether_demo scene end to end: recorded, every message decoded, the 3-D view Foxglove-ready, the report.
+"""The tether_demo scene end to end: recorded, every message decoded, the 3-D view Foxglove-ready, the report,
+and the same payloads when run again at rate max with every core busy (lockstep determinism).
 
 Every message of a short recording must decode with rosbags (types learnt from the bag) and
 with mcap + mcap-ros2-support. Foxglove reads the same ``ros2msg`` schemas with its own
@@ -24,9 +25,12 @@ from rosbags.highlevel import AnyReader
 
 from tether_bringup.bag_reader import read_bag
 
+from tethersim_testing import bag_payloads
+from tethersim_testing import busy_cores
 from tethersim_testing import processes_of
 from tethersim_testing import tethersim
 
+DURATION = '4'
 PLANT_TOPICS = ('/tether/state', '/tether/nodes', '/tether/markers', '/tether/uav_wrench', '/truth/relative')
 FOXGLOVE_BUILTINS = {'bool', 'byte', 'char', 'float32', 'float64', 'int8', 'uint8', 'int16', 'uint16', 'int32',
                      'uint32', 'int64', 'uint64', 'string', 'wstring', 'time', 'duration', 'builtin_interfaces/Time',
@@ -83,7 +87,7 @@ def test_foxglove_rules_refuse_what_foxglove_refuses():
 @pytest.fixture(scope='module')
 def run(tmp_path_factory):
     out = tmp_path_factory.mktemp('tether_demo') / 'run'
-    result = tethersim('run', 'tether_demo', '--duration', '4', '--rate', '1', '--out', str(out), timeout=300)
+    result = tethersim('run', 'tether_demo', '--duration', DURATION, '--rate', '1', '--out', str(out), timeout=300)
     return result, out
 
 
@@ -180,3 +184,20 @@ def test_readme_topic_table_is_what_tether_demo_records(run):
         t = np.array(stamps[name])
         assert len(t) >= 2, name
         assert (len(t) - 1) / ((t[-1] - t[0]) * 1e-9) == pytest.approx(rate, rel=1e-6), name
+
+
+def test_a_run_at_rate_max_with_every_core_busy_records_the_same_payloads(run, tmp_path):
+    """Lockstep: the same scene and seeds give byte-identical messages, topic by topic, in order, at the same log
+    times, whether paced at real time or run as fast as possible while other processes load every core.
+    """
+    _, out = run
+    loaded = tmp_path / 'loaded'
+    with busy_cores():
+        result = tethersim('run', 'tether_demo', '--duration', DURATION, '--rate', 'max', '--out', str(loaded),
+                           timeout=300)
+    assert result.returncode == 0, result.stdout + result.stderr
+    reference, recorded = bag_payloads(out), bag_payloads(loaded)
+    assert set(recorded) == set(reference) and set(reference) >= set(PLANT_TOPICS) | {'/clock', '/platform/imu'}
+    for topic, messages in reference.items():
+        assert len(messages) >= 4, topic
+        assert recorded[topic] == messages, topic

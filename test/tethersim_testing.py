@@ -5,9 +5,11 @@ from __future__ import annotations
 import os
 import subprocess
 import sys
+from contextlib import contextmanager
 from pathlib import Path
 
 import psutil
+from mcap.reader import make_reader
 
 ROOT = Path(__file__).resolve().parent.parent
 SCENES = ROOT / 'test' / 'scenes'
@@ -34,3 +36,26 @@ def processes_of(run_dir: Path) -> list[psutil.Process]:
         if str(run_dir) in cmdline and process.info['pid'] != os.getpid():
             found.append(process)
     return found
+
+
+def bag_payloads(run_dir: Path) -> dict[str, list[tuple[bytes, int]]]:
+    """Per topic of a run's bag, the serialized messages in the order the recorder received them, with log times."""
+    topics: dict[str, list[tuple[bytes, int]]] = {}
+    with open(run_dir / 'bag' / 'bag_0.mcap', 'rb') as stream:
+        for _, channel, message in make_reader(stream).iter_messages(log_time_order=False):
+            topics.setdefault(channel.topic, []).append((message.data, message.log_time))
+    return topics
+
+
+@contextmanager
+def busy_cores():
+    """Keep every core busy while the block runs: one seeded pseudo-random busy loop per core."""
+    burners = [subprocess.Popen([sys.executable, '-c', f'import random\nrandom.seed({k})\n'
+                                 'while True:\n    random.random()'])
+               for k in range(os.cpu_count() or 2)]
+    try:
+        yield
+    finally:
+        for burner in burners:
+            burner.kill()
+            burner.wait()
