@@ -19,6 +19,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+import yaml
 from mcap.reader import make_reader
 from mcap_ros2.decoder import DecoderFactory
 from rosbags.highlevel import AnyReader
@@ -152,15 +153,15 @@ def test_truth_wrench_and_state_agree_step_by_step(run):
         assert state.tension_uav > state.tension_reel > 0.0  # a hanging tether: T_B - T_A = mu g dz
 
 
-def _readme_topics() -> dict[str, tuple[str, float, str]]:
-    """The README's topic table: topic -> (type, rate Hz, reliability)."""
+def _readme_topics() -> dict[str, tuple[str, float, str, str]]:
+    """The README's topic table: topic -> (type, rate Hz, reliability, publisher → subscribers)."""
     readme = (Path(__file__).resolve().parent.parent / 'README.md').read_text()
     rows = {}
     for line in readme.splitlines():
         cells = [c.strip() for c in line.strip().strip('|').split('|')]
         if len(cells) == 5 and cells[0].startswith('/'):
             rate = re.search(r'(\d+(?:\.\d+)?) Hz', cells[3])
-            rows[cells[0]] = (cells[1].split(' ')[0], float(rate.group(1)), cells[4].split(',')[0])
+            rows[cells[0]] = (cells[1].split(' ')[0], float(rate.group(1)), cells[4].split(',')[0], cells[2])
     return rows
 
 
@@ -176,8 +177,11 @@ def test_readme_topic_table_is_what_tether_demo_records(run):
         stamp = msg.clock if topic == '/clock' else msg.markers[0].header.stamp if topic == '/tether/markers' \
             else msg.header.stamp
         stamps.setdefault(topic, []).append(stamp.sec * 1_000_000_000 + stamp.nanosec)
-    for name, (type_name, rate, reliability) in table.items():
+    graph = yaml.safe_load((out / 'graph.yaml').read_text())
+    for name, (type_name, rate, reliability, edges) in table.items():
         topic = bag.topics[name]
+        assert edges == f'{", ".join(graph[name]["publishers"])} → {", ".join(graph[name]["subscribers"])}', name
+        assert graph[name]['recorded'] and graph[name]['qos'][0]['reliability'] == reliability, name
         assert topic.type_name.replace('/msg/', '/') == type_name, name
         expected = 'reliable' if reliability == 'reliable' else 'best_effort'
         assert {q.reliability for q in topic.qos} == {expected}, name

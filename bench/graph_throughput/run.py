@@ -1,22 +1,33 @@
 """Graph throughput: real-time factor and CPU per message per node as nodes and topics are added.
 
 Each stage is a scene run with ``tethersim run --rate max`` (lockstep: as fast as the
-slowest process allows), twice in the same benchmark run: with rclpy's default
-``SingleThreadedExecutor`` in every process (the baseline, ``TETHERSIM_EXECUTOR=single``)
-and with the ``EventsExecutor`` the nodes use. Stages:
+slowest process allows), once per configuration in the same benchmark run:
+
+* ``before``: rclpy's default ``SingleThreadedExecutor`` in every process
+  (``TETHERSIM_EXECUTOR=single``), ``/clock`` every 10 ms, each step waiting for every ack;
+* ``events``: the ``EventsExecutor`` the nodes use, same clock;
+* ``after``: ``EventsExecutor``, ``/clock`` every 50 ms (``clock_step``) and a 50 ms
+  ``lockstep_window``, what the scenes use: the nodes still tick at their own rates.
+
+Stages:
 
 1. ``platform``: the platform node (4 topics at 100 Hz) and the recorder;
 2. ``+ plant``: the tether plant of ``tether_demo`` (quasi-static, 3 topics at 100 Hz, 2 at 10 Hz);
 3. ``+ reel``: the smart reel node on /tether/state and /truth/relative (1 topic at 100 Hz, 2 at 50 Hz);
 4. ``+ load``: two load nodes (``load_node.py``, 3 Imu topics at 100 Hz each) standing in for
-   the sensor, estimator and UAV nodes not in the graph yet.
+   the sensor, estimator and UAV nodes;
+5. ``scene NAME`` (``--scene``, default the fullest installed scene): that scene's nodes and
+   parameters as they are.
 
-Per node it reports CPU seconds (from the run summary), messages handled (published, acks
-included, plus taken: inputs, both /clock subscriptions of a lockstep node, every topic for
-the recorder, the acks for the time master ``tethersim``) counted from the bag, CPU per
-message, and CPU per simulated second. Writes ``summary.txt`` and ``table.csv`` to --out.
+Per process it reports CPU seconds (from the run summary), messages handled counted from the
+bag and the run's ``graph.yaml``: published plus taken (each topic it subscribes to; for a
+lockstep node also both ``/clock`` subscriptions and one ack per ``/clock``; every recorded
+message and one ack per ``/clock`` for the recorder; ``/clock`` and the acks for the time
+master ``tethersim``), CPU per message and CPU per simulated second; per stage the achieved
+real-time factor and the CPU-bound ceiling (cores / total CPU per simulated second), which
+does not depend on what else loads the machine. Writes ``summary.txt`` and ``table.csv`` to --out.
 
-Run:  ./tethersim-env python bench/graph_throughput/run.py [--duration 10] [--out DIR]
+Run:  ./tethersim-env python bench/graph_throughput/run.py [--duration 10] [--scene NAME] [--out DIR]
 """
 
 from __future__ import annotations
@@ -32,9 +43,17 @@ from pathlib import Path
 import yaml
 
 from tether_bringup.bag_reader import read_bag
+from tether_bringup.errors import SceneError
+from tether_bringup.scene import find_scene
 
 HERE = Path(__file__).resolve().parent
-EXECUTORS = ('single', 'events')
+FULLEST_SCENES = ('outdoor_flight', 'tether_demo')
+"""Scenes the last stage runs by default: the first one installed (the fullest graph first)."""
+CONFIGS = {
+    'before': {'executor': 'single', 'clock_step': 0.01, 'lockstep_window': 0.0},
+    'events': {'executor': 'events', 'clock_step': 0.01, 'lockstep_window': 0.0},
+    'after': {'executor': 'events', 'clock_step': 0.05, 'lockstep_window': 0.05},
+}
 PLATFORM = {'package': 'psr_platform_sim', 'executable': 'platform',
             'parameters': {'profile': 'hpr1', 'seed': 1, 'profile_duration': 60.0}}
 PLANT = {'package': 'tether_dynamics', 'executable': 'plant',
@@ -42,25 +61,20 @@ PLANT = {'package': 'tether_dynamics', 'executable': 'plant',
                         'nodes_rate': 10.0, 'markers_rate': 10.0, 'reel_input': 'reference',
                         'uav_source': 'fixed', 'uav_position': [3.22, 0.0, 5.9]}}
 REEL = {'package': 'smart_reel', 'executable': 'reel', 'parameters': {'relative_source': 'truth'}}
-STAGES = (
-    ('platform', {'platform': PLATFORM}),
-    ('+ plant', {'platform': PLATFORM, 'plant': PLANT}),
-    ('+ reel', {'platform': PLATFORM, 'plant': PLANT, 'reel': REEL}),
-    ('+ load', {'platform': PLATFORM, 'plant': PLANT, 'reel': REEL,
-                'load_a': {'script': str(HERE / 'load_node.py'), 'parameters': {'topics': 3}},
-                'load_b': {'script': str(HERE / 'load_node.py'), 'parameters': {'topics': 3}}}),
-)
-# What each node publishes (topic prefixes) and takes (topics), to count its messages from the bag.
-PUBLISHES = {'platform': ('/platform/',), 'plant': ('/tether/', '/truth/'), 'reel': ('/reel/',),
-             'load_a': ('/bench/load_a_',), 'load_b': ('/bench/load_b_',), 'tethersim': ('/clock',)}
-TAKES = {'platform': (), 'plant': ('/platform/reel_pose', '/platform/reel_twist'),
-         'reel': ('/tether/state', '/truth/relative'), 'load_a': ('/platform/imu',), 'load_b': ('/platform/imu',)}
+STAGES = {
+    'platform': {'platform': PLATFORM},
+    '+ plant': {'platform': PLATFORM, 'plant': PLANT},
+    '+ reel': {'platform': PLATFORM, 'plant': PLANT, 'reel': REEL},
+    '+ load': {'platform': PLATFORM, 'plant': PLANT, 'reel': REEL,
+               'load_a': {'script': str(HERE / 'load_node.py'), 'parameters': {'topics': 3}},
+               'load_b': {'script': str(HERE / 'load_node.py'), 'parameters': {'topics': 3}}},
+}
 
 
 @dataclass
 class NodeRow:
     stage: str
-    executor: str
+    config: str
     node: str
     cpu: float
     messages: int
@@ -75,9 +89,20 @@ class NodeRow:
         return self.cpu / self.sim_time
 
 
-def _scene(path: Path, nodes: dict, duration: float) -> None:
+def _scene(path: Path, nodes: dict, duration: float, config: dict) -> None:
     path.write_text(yaml.safe_dump({'description': 'graph throughput stage', 'duration': duration,
-                                    'rate': 'max', 'clock_step': 0.01, 'nodes': nodes}, sort_keys=False))
+                                    'rate': 'max', 'clock_step': config['clock_step'],
+                                    'lockstep_window': config['lockstep_window'], 'nodes': nodes}, sort_keys=False))
+
+
+def scene_nodes(name: str) -> dict:
+    """The nodes of an installed scene (or scene file), script paths made absolute."""
+    path = find_scene(name)
+    nodes = yaml.safe_load(path.read_text())['nodes']
+    for settings in nodes.values():
+        if 'script' in settings:
+            settings['script'] = str((path.parent / settings['script']).resolve())
+    return nodes
 
 
 def _summary(run_dir: Path) -> tuple[float, float, dict[str, float]]:
@@ -101,80 +126,101 @@ def _summary(run_dir: Path) -> tuple[float, float, dict[str, float]]:
 
 
 def _messages(run_dir: Path, nodes: list[str]) -> dict[str, int]:
-    """Messages each process handled: published (and acks) plus taken."""
+    """Messages each process handled: published and taken, from the bag's counts and the run's graph.yaml."""
     counts = {name: topic.count for name, topic in read_bag(run_dir / 'bag').topics.items()}
-    steps = counts['/clock']
+    graph = yaml.safe_load((run_dir / 'graph.yaml').read_text())
+    clocks = counts['/clock']
     handled = {}
     for node in nodes:
-        published = sum(n for topic, n in counts.items() if topic.startswith(PUBLISHES[node]))
-        taken = sum(counts.get(topic, 0) for topic in TAKES[node])
-        handled[node] = published + steps + taken + 2 * steps
-    handled['recorder'] = sum(counts.values()) + steps
-    handled['tethersim'] = steps + steps * (len(nodes) + 1)
+        published = sum(n for topic, n in counts.items() if node in graph.get(topic, {}).get('publishers', ()))
+        taken = sum(n for topic, n in counts.items()
+                    if topic != '/clock' and node in graph.get(topic, {}).get('subscribers', ()))
+        handled[node] = published + taken + 3 * clocks
+    handled['recorder'] = sum(counts.values()) + clocks
+    handled['tethersim'] = clocks * (len(nodes) + 2)
     return handled
 
 
-def run_stage(out: Path, label: str, nodes: dict, executor: str, duration: float) -> tuple[float, list[NodeRow]]:
-    """Run one stage with one executor; return the real-time factor and the per-node rows."""
-    slug = f'{label.strip("+ ")}-{executor}'
+def run_stage(out: Path, label: str, nodes: dict, config: str, duration: float) -> tuple[float, list[NodeRow]]:
+    """Run one stage with one configuration; return the real-time factor and the per-process rows."""
+    slug = f'{label.strip("+ ").replace(" ", "-")}-{config}'
     run_dir = out / slug
     scene = out / f'{slug}.yaml'
-    _scene(scene, nodes, duration)
-    env = dict(os.environ, TETHERSIM_EXECUTOR=executor)
+    _scene(scene, nodes, duration, CONFIGS[config])
+    env = dict(os.environ, TETHERSIM_EXECUTOR=CONFIGS[config]['executor'])
     result = subprocess.run([sys.executable, '-m', 'tether_bringup.cli', 'run', str(scene), '--out', str(run_dir)],
-                            env=env, capture_output=True, text=True, timeout=1800)
+                            env=env, capture_output=True, text=True, timeout=3600)
     if result.returncode != 0:
-        raise SystemExit(f'graph_throughput: stage {label} ({executor}) failed:\n{result.stderr[-2000:]}')
+        raise SystemExit(f'graph_throughput: stage {label} ({config}) failed:\n{result.stderr[-2000:]}')
     rate, sim, cpu = _summary(run_dir)
     handled = _messages(run_dir, list(nodes))
-    rows = [NodeRow(label, executor, name, cpu[name], handled[name], sim) for name in ['tethersim', 'recorder', *nodes]]
+    rows = [NodeRow(label, config, name, cpu[name], handled[name], sim) for name in ['tethersim', 'recorder', *nodes]]
     return rate, rows
 
 
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument('--duration', type=float, default=10.0, help='simulated seconds per stage (default 10)')
+    parser.add_argument('--scene', help=f'scene of the last stage (default: the first installed of '
+                                        f'{", ".join(FULLEST_SCENES)})')
     parser.add_argument('--out', type=Path, default=Path('runs/bench-graph_throughput'))
     args = parser.parse_args(argv)
     args.out.mkdir(parents=True, exist_ok=True)
+    scene = args.scene or next(name for name in FULLEST_SCENES if _installed(name))
+    stages = dict(STAGES, **{f'scene {scene}': scene_nodes(scene)})
     rates: dict[tuple[str, str], float] = {}
     rows: list[NodeRow] = []
-    for label, nodes in STAGES:
-        for executor in EXECUTORS:
-            print(f'stage {label:<9} executor {executor:<6} ...', file=sys.stderr, flush=True)
-            rate, stage_rows = run_stage(args.out, label, nodes, executor, args.duration)
-            rates[label, executor] = rate
+    for label, nodes in stages.items():
+        for config in CONFIGS:
+            print(f'stage {label:<22} {config:<7} ...', file=sys.stderr, flush=True)
+            rate, stage_rows = run_stage(args.out, label, nodes, config, args.duration)
+            rates[label, config] = rate
             rows += stage_rows
 
-    lines = [f'graph throughput, rate max, {args.duration:g} s simulated per stage, clock step 10 ms, '
-             f'{os.cpu_count()} cores',
+    cores = os.cpu_count() or 1
+    by_key = {(r.stage, r.config, r.node): r for r in rows}
+    names = list(CONFIGS)
+    lines = [f'graph throughput, rate max, {args.duration:g} s simulated per stage, {cores} cores; '
+             + '; '.join(f'{name}: {c["executor"]} executor, /clock every {c["clock_step"] * 1e3:g} ms, '
+                         f'window {c["lockstep_window"] * 1e3:g} ms' for name, c in CONFIGS.items()),
              '',
-             f'{"stage":<10} {"topics":>6} {"RTF single":>11} {"RTF events":>11} {"ratio":>6}']
-    for label, _nodes in STAGES:
-        topics = len(read_bag(args.out / f'{label.strip("+ ")}-events' / 'bag').topics)
-        single, events = rates[label, 'single'], rates[label, 'events']
-        lines.append(f'{label:<10} {topics:>6} {single:11.2f} {events:11.2f} {events / single:6.2f}')
+             'achieved real-time factor (RTF) and its CPU-bound ceiling (cores / total CPU per simulated second)',
+             f'{"stage":<24} {"topics":>6} ' + ' '.join(f'{"RTF " + n:>11} {"ceil " + n:>11}' for n in names)]
+    for label, nodes in stages.items():
+        topics = len(read_bag(args.out / f'{label.strip("+ ").replace(" ", "-")}-after' / 'bag').topics)
+        cells = []
+        for name in names:
+            total = sum(by_key[label, name, node].cpu_per_sim_second for node in ['tethersim', 'recorder', *nodes])
+            cells.append(f'{rates[label, name]:11.2f} {cores / total:11.2f}')
+        lines.append(f'{label:<24} {topics:>6} ' + ' '.join(cells))
     lines += ['', 'CPU per message (us) and CPU per simulated second (s/s) per process',
-              f'{"stage":<10} {"process":<10} {"msgs":>7} {"us/msg single":>14} {"us/msg events":>14} '
-              f'{"s/s single":>11} {"s/s events":>11}']
-    by_key = {(r.stage, r.executor, r.node): r for r in rows}
-    for label, nodes in STAGES:
+              f'{"stage":<24} {"process":<10} {"msgs after":>10} '
+              + ' '.join(f'{"us/msg " + n:>13}' for n in names) + ' ' + ' '.join(f'{"s/s " + n:>10}' for n in names)]
+    for label, nodes in stages.items():
         for node in ['tethersim', 'recorder', *nodes]:
-            single, events = by_key[label, 'single', node], by_key[label, 'events', node]
-            lines.append(f'{label:<10} {node:<10} {events.messages:7d} {single.us_per_message:14.1f} '
-                         f'{events.us_per_message:14.1f} {single.cpu_per_sim_second:11.3f} '
-                         f'{events.cpu_per_sim_second:11.3f}')
+            cells = [by_key[label, name, node] for name in names]
+            lines.append(f'{label:<24} {node:<10} {by_key[label, "after", node].messages:10d} '
+                         + ' '.join(f'{c.us_per_message:13.1f}' for c in cells) + ' '
+                         + ' '.join(f'{c.cpu_per_sim_second:10.3f}' for c in cells))
     text = '\n'.join(lines) + '\n'
     (args.out / 'summary.txt').write_text(text)
     with open(args.out / 'table.csv', 'w', newline='') as stream:
         writer = csv.writer(stream)
-        writer.writerow(['stage', 'executor', 'process', 'cpu_s', 'messages', 'us_per_message', 'cpu_per_sim_s',
+        writer.writerow(['stage', 'config', 'process', 'cpu_s', 'messages', 'us_per_message', 'cpu_per_sim_s',
                          'real_time_factor'])
         for r in rows:
-            writer.writerow([r.stage, r.executor, r.node, f'{r.cpu:.3f}', r.messages, f'{r.us_per_message:.1f}',
-                             f'{r.cpu_per_sim_second:.4f}', f'{rates[r.stage, r.executor]:.3f}'])
+            writer.writerow([r.stage, r.config, r.node, f'{r.cpu:.3f}', r.messages, f'{r.us_per_message:.1f}',
+                             f'{r.cpu_per_sim_second:.4f}', f'{rates[r.stage, r.config]:.3f}'])
     print(text, end='')
     return 0
+
+
+def _installed(name: str) -> bool:
+    try:
+        find_scene(name)
+    except SceneError:
+        return False
+    return True
 
 
 if __name__ == '__main__':

@@ -37,6 +37,7 @@ from tether_bringup.environment import run_environment
 from tether_bringup.errors import BagError
 from tether_bringup.errors import RunDirectoryError
 from tether_bringup.errors import RunError
+from tether_bringup.graph_snapshot import write_graph
 from tether_bringup.processes import ChildProcess
 from tether_bringup.recorder_params import DEFAULT_EXCLUDE
 from tether_bringup.scene import LOCKSTEP_WINDOW
@@ -123,6 +124,7 @@ def execute(nodes: list[NodeConfig], source, options: RunOptions) -> int:
         _wait_for(lambda: barrier.reached(0), READY_TIMEOUT, children, executor,
                   lambda: f'{", ".join(barrier.behind(0))} did not join the lockstep within {{:.0f}} s '
                           '(a node joins once each of its inputs has a publisher)')
+        write_graph(out / 'graph.yaml', node, set(options.exclude))
         failure = _advance(source, barrier, children, executor, options)
         if failure:
             status = 1
