@@ -25,7 +25,9 @@ setup(
         ],
         'tethersim.commands': [
             'reel = smart_reel.cli:COMMAND',
-            'report = smart_reel.surrogate_report:COMMAND',
+        ],
+        'tethersim.reports': [
+            'surrogate = smart_reel.surrogate_report:COMMAND',
         ],
     },
 )

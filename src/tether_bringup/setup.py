@@ -30,6 +30,7 @@ setup(
             'replay = tether_bringup.cli:REPLAY',
             'scenes = tether_bringup.cli:SCENES',
             'bag = tether_bringup.cli:BAG',
+            'report = tether_bringup.report_command:REPORT',
         ],
     },
 )

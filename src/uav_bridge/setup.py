@@ -26,5 +26,8 @@ setup(
             'builtin_uav = uav_bridge.builtin_uav_node:main',
             'json_physics = uav_bridge.json_physics_node:main',
         ],
+        'tethersim.reports': [
+            'mission = uav_bridge.mission_report:COMMAND',
+        ],
     },
 )

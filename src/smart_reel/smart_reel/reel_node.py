@@ -60,12 +60,12 @@ MODES = {'catenary': ReelState.MODE_CATENARY, 'taut': ReelState.MODE_TAUT, 'lock
 
 
 def relative_inputs(msg, inputs: ReelInputs) -> None:
-    """Fill Δr, Δz, Δż from a RelativePosition or a RelativeEstimate."""
+    """Fill Δr, Δz, Δż from a RelativePosition or a RelativeEstimate (none from an estimate not yet initialized)."""
     if isinstance(msg, RelativePosition):
         inputs.dr = math.hypot(msg.position.x, msg.position.y)
         inputs.dz = msg.position.z
         inputs.dz_rate = msg.velocity.z
-    else:
+    elif msg.initialized and math.isfinite(msg.dz) and math.isfinite(msg.horizontal.x):
         inputs.dr = math.hypot(msg.horizontal.x, msg.horizontal.y)
         inputs.dz = msg.dz
         inputs.dz_rate = msg.dz_rate

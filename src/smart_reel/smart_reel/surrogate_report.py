@@ -37,7 +37,6 @@ from tether_bringup.bag_reader import Bag
 from tether_bringup.bag_reader import read_bag
 from tether_bringup.errors import BagError
 from tether_common.command_line import Command
-from tether_common.command_line import OneLineParser
 from tether_common.command_line import UsageError
 from tether_common.command_line import analysis
 from tether_dynamics.statics.catenary import solve
@@ -355,13 +354,11 @@ def reel_report(bag_path: str, out_dir: str) -> list[str]:
 
 
 def _arguments(parser: argparse.ArgumentParser) -> None:
-    """Add the subcommands of ``tethersim report`` to its parser."""
-    sub = parser.add_subparsers(dest='command', required=True, parser_class=OneLineParser)
-    p = sub.add_parser('surrogate', help='UAV-surrogate experiment, Fig. 6.1-6.4 and Sec. 6.1 numbers')
-    p.add_argument('bags', nargs='+', help='run directories, bag directories or .mcap files')
-    p.add_argument('--out', type=Path, default=Path('runs/report-surrogate'), help='output directory')
-    p.add_argument('--settle', type=float, default=None,
-                   help=f's skipped at the start of each run (default {SETTLE:g}, or half a shorter run)')
+    """Add the arguments of ``tethersim report surrogate`` to its parser."""
+    parser.add_argument('bags', nargs='+', help='run directories, bag directories or .mcap files')
+    parser.add_argument('--out', type=Path, default=Path('runs/report-surrogate'), help='output directory')
+    parser.add_argument('--settle', type=float, default=None,
+                        help=f's skipped at the start of each run (default {SETTLE:g}, or half a shorter run)')
 
 
 def _command(args: argparse.Namespace) -> str:
@@ -370,6 +367,6 @@ def _command(args: argparse.Namespace) -> str:
     return report(args.bags, args.out, args.settle)
 
 
-COMMAND = Command('reports computed from recorded runs: surrogate (UAV-surrogate experiment, Sec. 6.1)',
-                  _arguments, analysis('tethersim report', _command))
+COMMAND = Command('UAV-surrogate experiment (Sec. 6.1, Fig. 6.1-6.4) from surrogate_* runs',
+                  _arguments, analysis('tethersim report surrogate', _command))
 

@@ -46,3 +46,16 @@ def test_land_descends_at_the_land_speed():
     heights = [_run(uav, 20.0 + k, 21.0 + k, np.zeros(3)).position[2] for k in range(8)]
     rates = -np.diff(heights[2:])
     np.testing.assert_allclose(rates, 0.5, atol=0.02)
+
+
+def test_a_start_height_starts_hovering_armed_in_guided():
+    uav = BuiltinUav(BuiltinUavConfig(start=(15.0, 0.0, 0.0), start_height=28.0))
+    pull = np.array([-4.0, 0.0, -12.0])                           # a 30 m tether's weight and pull
+    state = _run(uav, 0.0, 0.0, pull)
+    assert state.armed and state.mode == 'GUIDED'
+    np.testing.assert_allclose(state.position, [15.0, 0.0, 28.0])
+    state = _run(uav, 0.0, 20.0, pull)
+    np.testing.assert_allclose(state.position, [15.0, 0.0, 28.0], atol=0.02)   # holds where it started
+    assert uav.takeoff(2.0)[0]                                    # the mission's take-off climbs from there
+    state = _run(uav, 20.0, 40.0, pull)
+    np.testing.assert_allclose(state.position, [15.0, 0.0, 30.0], atol=0.05)

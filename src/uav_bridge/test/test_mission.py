@@ -10,6 +10,7 @@ import pytest
 from uav_bridge.mission import Inputs
 from uav_bridge.mission import MissionConfig
 from uav_bridge.mission import MissionLogic
+from uav_bridge.mission import TripMonitor
 
 GROUND = np.array([0.0, 0.0, 0.0])
 
@@ -79,3 +80,14 @@ def test_leaving_guided_before_arming_asks_for_it_again():
     logic.step(0.0, Inputs(**base, mode='GUIDED'))
     out = logic.step(1.0, Inputs(**base, mode='STABILIZE'))
     assert out.phase == 'guided' and out.request == ('set_mode', 'GUIDED') and 'STABILIZE' in out.reason
+
+
+def test_trip_monitor_counts_a_trip_that_lasts():
+    monitor = TripMonitor(abort_after=0.5)
+    assert monitor.update(10.0, True, 'reel-in stopped') == ''
+    assert monitor.update(10.02, False, '') == ''              # cleared within a tick: the mission flies on
+    assert monitor.update(11.0, True, 'reel-in stopped') == ''
+    assert monitor.update(11.48, True, 'reel-in stopped') == ''
+    assert monitor.update(11.5, True, 'reel-in stopped') == 'reel-in stopped for 0.50 s'
+    assert monitor.update(12.0, False, '') == 'reel-in stopped for 0.50 s'   # latched
+    assert TripMonitor().update(3.0, True, 'reel in fault mode') == 'reel in fault mode'

@@ -19,10 +19,17 @@ def test_station_keeping_of_a_circle_with_heave():
     assert stats['from_station'] == pytest.approx(np.hypot(0.6, 0.54), abs=2e-3)
 
 
-def test_hold_interval_from_phases():
-    station = (0.0, 0.0, 5.0)
+def test_hold_window_opens_when_the_uav_reaches_the_station():
+    station = (2.5, 0.0, 5.0)
     phases = [(1.0, 'wait', '', station), (40.0, 'climb', '', station), (50.0, 'hold', '', station),
               (90.0, 'land', 'end of the mission', station)]
-    assert hold_interval(phases) == (50.0, 90.0)
-    assert hold_interval(phases[:3]) == (50.0, np.inf)
-    assert hold_interval(phases[:2]) is None
+    t = np.arange(0.0, 100.0, 0.5)
+    # at 4.6 m until 50 s, then crossing 2.5 m horizontally at 0.1 m/s: within 0.5 m at 70 s
+    x = np.clip((t - 50.0) * 0.1, 0.0, 2.5)
+    poses = np.column_stack([t, x, np.zeros_like(t), np.where(t < 50.0, 4.6, 5.0)])
+    assert hold_interval(phases, poses) == (70.0, 90.0)
+    assert hold_interval(phases, poses, arrival=3.0) == (50.0, 90.0)
+    assert hold_interval(phases[:3], poses) == (70.0, np.inf)
+    assert hold_interval(phases[:2], poses) is None
+    poses[:, 1] = 0.0                                     # never came within 0.5 m of the station
+    assert hold_interval(phases, poses) is None

@@ -7,8 +7,10 @@ attachment point), the same function the plant integrates; the controller is
 commands the MAVLink bridge forwards to ArduPilot, with ArduCopter's meaning: GUIDED and
 LAND modes, arm, take off to an altitude above the take-off point, position targets in
 GUIDED, LAND descending at ``land_speed`` and disarming on the ground. While disarmed the
-body rests at its start pose (on the ground, at ``ground`` height). Its estimate is ready
-at once (it has no EKF start-up).
+body rests at its start pose (on the ground, the height of ``start``). With a
+``start_height`` it starts armed in GUIDED, hovering that high above ``start``, as a
+tethered run starts with the tether already deployed to the UAV in the air. Its estimate
+is ready at once (it has no EKF start-up).
 """
 
 from __future__ import annotations
@@ -17,6 +19,7 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
+from scipy.spatial.transform import Rotation
 
 from tether_dynamics.plant import bodies
 from uav_bridge.multirotor_control import StationController
@@ -33,6 +36,7 @@ class BuiltinUavConfig:
     inertia: tuple = ((0.03, 0.0, 0.0), (0.0, 0.03, 0.0), (0.0, 0.0, 0.05))   # kg m^2, body
     attach_offset: tuple = (0.0, 0.0, -0.1)             # m, tether attachment from the CoM, body FLU
     start: tuple = (0.0, 0.0, 0.0)                      # m, CoM at rest on the ground, world
+    start_height: float = 0.0                           # m above start hovering at t = 0 (armed, GUIDED); 0: landed
     gravity: float = 9.80665                            # m/s^2
     dt: float = 1e-3                                    # s, body integration step
     land_speed: float = 0.5                             # m/s, LAND descent rate
@@ -71,6 +75,10 @@ class BuiltinUav:
         self._rest()
         self.controller = StationController(config.mass, self.inertia, config.gravity)
         self._t: float | None = None
+        if config.start_height > 0.0:
+            self.body[bodies.BS_POS + 2] += config.start_height
+            self.reference = self.body[bodies.BS_POS:bodies.BS_POS + 3].copy()
+            self.armed = True
 
     def _rest(self) -> None:
         self.body[:] = 0.0
@@ -133,7 +141,8 @@ class BuiltinUav:
         if self.armed:
             state = self._body_state()
             ramp = [0.0, 0.0, -self.config.land_speed] if self.mode == 'LAND' else None
-            self.thrust, self.torque = self.controller.step(t, state, self.reference, self.yaw, force, ramp)
+            moment = np.cross(self.rho, Rotation.from_quat(state.quaternion).inv().apply(force))
+            self.thrust, self.torque = self.controller.step(t, state, self.reference, self.yaw, force, ramp, moment)
         b = self.body
         return BuiltinUavState(self.armed, self.mode, b[0:3].copy(), b[3:6].copy(), b[13:16].copy(), b[6:10].copy(),
                                b[10:13].copy())

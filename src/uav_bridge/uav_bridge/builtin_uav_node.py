@@ -4,15 +4,17 @@ A thin wrapper around :class:`uav_bridge.builtin_uav.BuiltinUav` (the plant's UA
 under the cascaded station controller). It publishes what ``mavlink_bridge`` publishes —
 ``/uav/pose``, ``/uav/twist`` (``world``), ``/uav/imu`` (``uav``, FLU), ``/uav/state``
 (transient local) — and serves the same ``/uav/set_mode``, ``/uav/arm``, ``/uav/takeoff``,
-``/uav/land`` and ``/uav/setpoint``, so the mission node flies either one. The tether's force
-on the UAV comes from the plant on ``/tether/uav_wrench`` (geometry_msgs/WrenchStamped,
-world): the tick at t uses the latest wrench stamped at or before t minus one period (the
-explicit delay of the UAV ↔ plant loop); none is zero force.
+``/uav/land`` and ``/uav/setpoint``, so the mission node flies either one. With ``tether_force: topic`` the tether's force on
+the UAV comes from the plant on ``/tether/uav_wrench`` (geometry_msgs/WrenchStamped, world),
+a lockstep input (:mod:`tether_common.lockstep`) with a delay of one wrench period: the tick
+at t integrates the body over [t - period, t] under the wrench stamped t - period, the
+plant's force at the start of the interval, and publishes the pose stamped t that the
+plant's tick t takes with no delay. That delay is the explicit one-step delay of the loop
+UAV pose → plant → wrench → UAV. Before the first wrench the force is zero.
 """
 
 from __future__ import annotations
 
-import bisect
 import sys
 
 import numpy as np
@@ -20,7 +22,6 @@ from geometry_msgs.msg import PoseStamped
 from geometry_msgs.msg import TwistStamped
 from geometry_msgs.msg import WrenchStamped
 from rclpy.node import Node
-from rclpy.time import Time
 from scipy.spatial.transform import Rotation
 from sensor_msgs.msg import Imu
 from std_srvs.srv import SetBool
@@ -36,6 +37,7 @@ from tether_common.qos import LATCHED
 from tether_common.qos import SENSOR
 from tether_common.qos import STATE
 from tether_common.ros_parameters import declare_parameters
+from tether_common.lockstep import Input
 from tether_common.lockstep import Lockstep
 from tether_common.lockstep import Tick
 from uav_bridge.builtin_uav import BuiltinUav
@@ -62,15 +64,11 @@ class BuiltinUavNode(Node):
             raise ConfigurationError(str(error)) from None
         self.uav = BuiltinUav(BuiltinUavConfig(
             mass=params['mass'], inertia=tuple(np.diag(params['inertia'])), attach_offset=tuple(params['attach_offset']),
-            start=tuple(params['start']), land_speed=params['land_speed']))
-        self.period_ns = round(1e9 / params['rate'])
-        self.wrench_stamps: list[int] = []
-        self.wrench_forces: list[np.ndarray] = []
+            start=tuple(params['start']), start_height=params['start_height'], land_speed=params['land_speed']))
         self.pose_pub = self.create_publisher(PoseStamped, '/uav/pose', SENSOR)
         self.twist_pub = self.create_publisher(TwistStamped, '/uav/twist', SENSOR)
         self.imu_pub = self.create_publisher(Imu, '/uav/imu', SENSOR)
         self.state_pub = self.create_publisher(UavState, '/uav/state', LATCHED)
-        self.create_subscription(WrenchStamped, '/tether/uav_wrench', self.wrench_callback, STATE)
         self.create_subscription(PoseStamped, '/uav/setpoint', self.setpoint_callback, COMMAND)
         self.create_service(SetMode, '/uav/set_mode', self.set_mode_callback)
         self.create_service(SetBool, '/uav/arm', self.arm_callback)
@@ -79,29 +77,20 @@ class BuiltinUavNode(Node):
         self._last_state: tuple | None = None
         self._next_state_ns = 0
         self.lockstep = Lockstep(self)
-        self.lockstep.every(1.0 / params['rate'], self.step)
-        self.get_logger().info(f'built-in UAV: {params["mass"]:g} kg at {params["start"]} m in world, '
-                               f'{params["rate"]:g} Hz')
-
-    def wrench_callback(self, msg: WrenchStamped) -> None:
-        """Keep the plant's wrenches by stamp."""
-        stamp = Time.from_msg(msg.header.stamp).nanoseconds
-        f = msg.wrench.force
-        index = bisect.bisect(self.wrench_stamps, stamp)
-        self.wrench_stamps.insert(index, stamp)
-        self.wrench_forces.insert(index, np.array([f.x, f.y, f.z]))
-
-    def _force_for(self, tick_ns: int) -> np.ndarray:
-        index = bisect.bisect(self.wrench_stamps, tick_ns - self.period_ns)
-        if index == 0:
-            return np.zeros(3)
-        force = self.wrench_forces[index - 1]
-        del self.wrench_stamps[:index - 1], self.wrench_forces[:index - 1]
-        return force
+        wrench_period = 1.0 / params['wrench_rate']
+        inputs = ([Input('/tether/uav_wrench', WrenchStamped, wrench_period, wrench_period, STATE)]
+                  if params['tether_force'] == 'topic' else [])
+        self.lockstep.every(1.0 / params['rate'], self.step, inputs)
+        self.get_logger().info(f'built-in UAV: {params["mass"]:g} kg at {params["start"]} m in world'
+                               + (f', hovering {params["start_height"]:g} m above' if params['start_height'] else '')
+                               + f', {params["rate"]:g} Hz, tether force {params["tether_force"]}')
 
     def step(self, tick: Tick) -> None:
-        """Advance the body to the tick and publish it."""
-        state = self.uav.step(tick.time_ns * 1e-9, self._force_for(tick.time_ns))
+        """Advance the body to the tick under the selected wrench and publish it."""
+        wrench = tick.inputs.get('/tether/uav_wrench')
+        force = np.zeros(3) if wrench is None else np.array(
+            [wrench.wrench.force.x, wrench.wrench.force.y, wrench.wrench.force.z])
+        state = self.uav.step(tick.time_ns * 1e-9, force)
         stamp = tick.stamp
         rotation = Rotation.from_quat(state.quaternion)
         pose, twist = pose_and_twist(stamp, state.position, state.quaternion, state.velocity,

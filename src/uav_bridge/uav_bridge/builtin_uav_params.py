@@ -15,4 +15,12 @@ PARAMETERS: tuple[ParamSpec, ...] = (
     ParamSpec('rate', 100.0, 'controller steps and published poses per second of sim time (the body is '
               'integrated at 1 kHz between them)', 'Hz', low=10.0, high=1000.0, read_only=True),
     ParamSpec('land_speed', 0.5, 'descent rate in LAND', 'm/s', low=0.05, high=5.0, read_only=True),
+    ParamSpec('start_height', 0.0, 'height above start at which the UAV hovers at t = 0, armed in GUIDED (a '
+              'tethered run starts with the tether deployed to the UAV in the air); 0: disarmed, at rest on the '
+              'ground at start', 'm', low=0.0, high=500.0, read_only=True),
+    ParamSpec('tether_force', 'none', 'the tether\'s force on the UAV: topic (/tether/uav_wrench from the plant, '
+              'a lockstep input one wrench_rate period late: the UAV-plant loop\'s delay) or none',
+              choices=('none', 'topic'), read_only=True),
+    ParamSpec('wrench_rate', 100.0, 'rate of /tether/uav_wrench: the plant\'s state_rate (lockstep input period)',
+              'Hz', low=1.0, high=1000.0, read_only=True),
 )

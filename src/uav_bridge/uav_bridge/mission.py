@@ -12,6 +12,8 @@ arm, takeoff, land, with the answer of the previous one fed back) and the positi
 Phases: ``wait`` (for the link and the autopilot's position estimate) → ``guided`` →
 ``arm`` → ``takeoff`` → ``climb`` → ``hold`` → ``land`` → ``landed``. A reel trip (tension
 or fouling) or the end time sends it to ``land`` from any phase, and the reason is kept.
+:class:`TripMonitor` decides when a reel trip counts: once the reel has stayed tripped for
+``abort_after`` seconds (0: at once).
 """
 
 from __future__ import annotations
@@ -62,6 +64,35 @@ class Outputs:
     request: tuple[str, object] | None = None    # ('set_mode', 'GUIDED'), ('arm', True), ('takeoff', m), ('land', None)
     setpoint: np.ndarray | None = None           # m, world (ENU)
     reason: str = ''                              # why the mission lands, else the last refusal or wait
+
+
+class TripMonitor:
+    """Latches a reel trip that has lasted ``abort_after`` s (stamped reel states, in order).
+
+    The smart reel's safety trips hold the reel while their condition lasts (tension while
+    reeling in, clearance or departure angle while paying out). One that clears within a
+    controller tick is the reel refusing one direction, and the mission may fly on; one that
+    lasts means the reel cannot manage the tether, and the mission lands.
+    """
+
+    def __init__(self, abort_after: float = 0.0) -> None:
+        self.abort_after = abort_after
+        self.since: float | None = None
+        self.fault = ''
+
+    def update(self, t: float, tripped: bool, reason: str) -> str:
+        """Feed the reel's state at ``t`` (s); return the latched trip reason, '' while none counts."""
+        if self.fault:
+            return self.fault
+        if not tripped:
+            self.since = None
+            return ''
+        if self.since is None:
+            self.since = t
+        if t - self.since >= self.abort_after:
+            held = f' for {t - self.since:.2f} s' if self.abort_after > 0.0 else ''
+            self.fault = f'{reason}{held}'
+        return self.fault
 
 
 class MissionLogic:

@@ -8,8 +8,9 @@ UAV through the services ``/uav/set_mode``, ``/uav/arm``, ``/uav/takeoff``, ``/u
 ``/uav/setpoint`` (geometry_msgs/PoseStamped, ``world``, zero quaternion: heading kept) while
 holding, and its phase on ``/mission/state`` (tether_msgs/MissionState, transient local).
 
-A reel trip lands the UAV: the reel in its fault mode (ReelState.MODE_FAULT), or a tension
-estimate above ``abort_tension``.
+A reel trip lands the UAV: the reel in its fault mode (ReelState.MODE_FAULT: a safety trip
+holds it, its reason in ``/reel/diagnostics`` ``safety_trip``) for ``abort_after`` s, or a
+tension estimate above ``abort_tension`` (:class:`uav_bridge.mission.TripMonitor`).
 """
 
 from __future__ import annotations
@@ -23,6 +24,7 @@ from rclpy.node import Node
 from std_srvs.srv import SetBool
 from std_srvs.srv import Trigger
 from tether_msgs.msg import MissionState
+from tether_msgs.msg import ReelControllerDiagnostics
 from tether_msgs.msg import ReelState
 from tether_msgs.msg import UavState
 from tether_msgs.srv import SetMode
@@ -40,6 +42,7 @@ from tether_common.lockstep import Tick
 from uav_bridge.mission import Inputs
 from uav_bridge.mission import MissionConfig
 from uav_bridge.mission import MissionLogic
+from uav_bridge.mission import TripMonitor
 from uav_bridge.mission_params import PARAMETERS
 
 
@@ -57,6 +60,8 @@ class MissionNode(Node):
             land_time=params['land_time'] or math.inf, climb_tolerance=params['climb_tolerance'],
             retry_period=params['retry_period']))
         self.abort_tension = params['abort_tension']
+        self.trips = TripMonitor(params['abort_after'])
+        self.trip_reason = ''
         self.uav_state: UavState | None = None
         self.position: np.ndarray | None = None
         self.reel_fault = ''
@@ -65,6 +70,7 @@ class MissionNode(Node):
         self.create_subscription(UavState, '/uav/state', self.uav_state_callback, LATCHED)
         self.create_subscription(PoseStamped, '/uav/pose', self.pose_callback, SENSOR)
         self.create_subscription(ReelState, '/reel/state', self.reel_callback, STATE)
+        self.create_subscription(ReelControllerDiagnostics, '/reel/diagnostics', self.diagnostics_callback, STATE)
         self.setpoint_pub = self.create_publisher(PoseStamped, '/uav/setpoint', COMMAND)
         self.state_pub = self.create_publisher(MissionState, '/mission/state', LATCHED)
         self.uav_services = {'set_mode': (self.create_client(SetMode, '/uav/set_mode'), lambda v: SetMode.Request(mode=v)),
@@ -88,14 +94,21 @@ class MissionNode(Node):
         p = msg.pose.position
         self.position = np.array([p.x, p.y, p.z])
 
+    def diagnostics_callback(self, msg: ReelControllerDiagnostics) -> None:
+        """Keep the reason of the reel's active safety trip."""
+        self.trip_reason = msg.safety_trip
+
     def reel_callback(self, msg: ReelState) -> None:
-        """Latch a reel trip: fault mode, or tension above the abort threshold."""
-        if self.reel_fault:
-            return
+        """Feed the trip monitor: fault mode, or tension above the abort threshold."""
+        t = msg.header.stamp.sec + msg.header.stamp.nanosec * 1e-9
         if msg.mode == ReelState.MODE_FAULT:
-            self.reel_fault = 'reel in fault mode'
+            reason = f'reel in fault mode ({self.trip_reason})' if self.trip_reason else 'reel in fault mode'
+            self.reel_fault = self.trips.update(t, True, reason)
         elif self.abort_tension > 0.0 and msg.tension_estimate > self.abort_tension:
-            self.reel_fault = f'tension estimate {msg.tension_estimate:.1f} N > {self.abort_tension:g} N'
+            self.reel_fault = self.trips.update(
+                t, True, f'tension estimate {msg.tension_estimate:.1f} N > {self.abort_tension:g} N')
+        else:
+            self.reel_fault = self.trips.update(t, False, '')
 
     def step(self, tick: Tick) -> None:
         """One mission step at the tick's sim time."""

@@ -15,6 +15,8 @@ PARAMETERS: tuple[ParamSpec, ...] = (
               high=1e9, read_only=True),
     ParamSpec('abort_tension', 0.0, 'land when the reel\'s tension estimate exceeds this; 0: only on the reel\'s '
               'fault mode', 'N', low=0.0, high=1e5, read_only=True),
+    ParamSpec('abort_after', 0.0, 'land once a reel trip (fault mode, or the abort tension) has lasted this long; '
+              '0: on the first tripped reel state', 's', low=0.0, high=60.0, read_only=True),
     ParamSpec('rate', 10.0, 'mission steps and setpoints per second of sim time', 'Hz', low=0.5, high=100.0,
               read_only=True),
     ParamSpec('retry_period', 2.0, 'wait after a refused request before asking again', 's', low=0.1, high=60.0,

@@ -9,8 +9,11 @@ thrust (N, along body +z) and body torque (N m, FLU) the plant's UAV rigid body 
   on the UAV as feed-forward when it is given; the thrust is ``F · R e3`` and the desired
   body z axis ``F / |F|``, tilt limited to ``max_tilt``;
 * attitude (inner): the geometric controller on SO(3) of Lee, Leok and McClamroch (2010),
-  ``tau = -K_R e_R - K_W e_W + W x J W`` with ``e_R = vee(R_d^T R - R^T R_d) / 2`` and
-  ``e_W = W`` (station keeping: no commanded body rate).
+  ``tau = -K_R e_R - K_W e_W + W x J W - M_tether`` with ``e_R = vee(R_d^T R - R^T R_d) / 2``
+  and ``e_W = W`` (station keeping: no commanded body rate); ``M_tether``, the tether's
+  moment about the centre of mass when it is given, is fed forward (without it a tether
+  pull at an attachment point off the centre of mass leaves a steady attitude error, and
+  the tilt it causes a steady position error).
 
 References:
     T. Lee, M. Leok, N. H. McClamroch, "Geometric tracking control of a quadrotor UAV on
@@ -64,11 +67,12 @@ class StationController:
         self._t: float | None = None
 
     def step(self, t: float, state: UavBodyState, reference, yaw: float = 0.0,
-             tether_force=None, reference_velocity=None) -> tuple[float, np.ndarray]:
+             tether_force=None, reference_velocity=None, tether_moment=None) -> tuple[float, np.ndarray]:
         """Return (thrust N, body torque N m) holding ``reference`` (m, world) at heading ``yaw`` (rad, ENU).
 
         ``tether_force`` (N, world) is the tether's measured force on the UAV, fed forward;
-        ``reference_velocity`` (m/s, world) the reference's rate of change (a ramp), zero if None.
+        ``reference_velocity`` (m/s, world) the reference's rate of change (a ramp), zero if None;
+        ``tether_moment`` (N m, body) the tether's moment about the centre of mass, fed forward.
         """
         g = self.gains
         dt = 0.0 if self._t is None else t - self._t
@@ -88,6 +92,8 @@ class StationController:
         error_r = 0.5 * _vee(desired.T @ rotation - rotation.T @ desired)    # Lee et al. Eq. (10)
         omega = np.asarray(state.angular_velocity, dtype=float)
         torque = -g.k_r * error_r - g.k_w * omega + np.cross(omega, self.inertia @ omega)   # Eq. (16)
+        if tether_moment is not None:
+            torque = torque - np.asarray(tether_moment, dtype=float)
         return thrust, torque
 
     def _limit_tilt(self, force: np.ndarray) -> np.ndarray:

@@ -1,7 +1,8 @@
 """After-run report of a UAV flight: station keeping during the mission's hold phase, from a bag.
 
 Reads ``/uav/pose`` (world, ENU), ``/mission/state`` (phases, station) and ``/uav/state``
-(link staleness, reconnects, reboots). During ``hold`` it computes the altitude's peak-to-peak
+(link staleness, reconnects, reboots). During ``hold``, from the UAV's arrival within
+``ARRIVAL`` of the station, it computes the altitude's peak-to-peak
 range and standard deviation and the horizontal radius about the mean position, the numbers
 the thesis gives for its indoor flights (Sec. 6.3: 1.08 m peak-to-peak, 0.18 m standard
 deviation, within a 0.60 m radius; untethered 0.99 m, 0.18 m, 0.48 m), plus the largest
@@ -24,6 +25,8 @@ from tether_bringup.bag_reader import read_bag  # noqa: E402
 
 THESIS_INDOOR = {'peak_to_peak': 1.08, 'std': 0.18, 'radius': 0.60}
 THESIS_UNTETHERED = {'peak_to_peak': 0.99, 'std': 0.18, 'radius': 0.48}
+ARRIVAL = 0.5
+"""m: the station-keeping window opens when the UAV first comes this close to the station."""
 
 
 def _stamp(header) -> float:
@@ -49,13 +52,23 @@ def read_flight(bag_path: Path) -> dict:
             'topics': topics}
 
 
-def hold_interval(phases: list) -> tuple[float, float] | None:
-    """Start and end (s) of the first hold phase; the end is inf while it lasted to the end of the bag."""
-    start = next((t for t, phase, _, _ in phases if phase == 'hold'), None)
+def hold_interval(phases: list, poses: np.ndarray, arrival: float = ARRIVAL) -> tuple[float, float] | None:
+    """Start and end (s) of the station-keeping window; None when the UAV never held station.
+
+    The window opens at the first pose of the first ``hold`` phase within ``arrival`` m of
+    the station (the mission enters ``hold`` when the take-off altitude is reached, before
+    the UAV has crossed to the station) and closes when the phase ends (inf while it lasted
+    to the end of the bag).
+    """
+    start = next(((t, station) for t, phase, _, station in phases if phase == 'hold'), None)
     if start is None:
         return None
-    end = next((t for t, phase, _, _ in phases if t > start and phase != 'hold'), np.inf)
-    return start, end
+    end = next((t for t, phase, _, _ in phases if t > start[0] and phase != 'hold'), np.inf)
+    during = (poses[:, 0] >= start[0]) & (poses[:, 0] < end)
+    near = during & (np.linalg.norm(poses[:, 1:4] - np.asarray(start[1]), axis=1) <= arrival)
+    if not near.any():
+        return None
+    return float(poses[np.argmax(near), 0]), end
 
 
 def station_keeping(positions: np.ndarray, station) -> dict:
@@ -81,7 +94,7 @@ def flight_report(bag_path: str, out_dir: str) -> list[str]:
                 + (f' (mission phase at the end: {phases[-1][1]}: {phases[-1][2]})' if phases else '')]
     lines = [f'uav: {poses.shape[0]} poses over {poses[-1, 0] - poses[0, 0]:.1f} s; mission phases: '
              + (' → '.join(dict.fromkeys(phase for _, phase, _, _ in phases)) if phases else 'no /mission/state')]
-    interval = hold_interval(phases)
+    interval = hold_interval(phases, poses)
     station = phases[-1][3] if phases else None
     if interval is not None:
         inside = (poses[:, 0] >= interval[0]) & (poses[:, 0] < interval[1])
@@ -98,7 +111,7 @@ def flight_report(bag_path: str, out_dir: str) -> list[str]:
                          f'{THESIS_UNTETHERED["radius"]} m'
                          + ('' if tether else ' — no tether acted on this UAV (no /tether/state): not comparable'))
     else:
-        lines.append('uav: the mission never reached its hold phase'
+        lines.append(f'uav: the mission never held station (hold phase within {ARRIVAL:g} m of the station)'
                      + (f' (last phase {phases[-1][1]}: {phases[-1][2]})' if phases else ''))
     if phases and phases[-1][2]:
         lines.append(f'uav mission end: {phases[-1][1]}: {phases[-1][2]}')

@@ -1,0 +1,417 @@
+"""Mission report (thesis Sec. 6.3, 6.4, Table 6.3) from runs of the flight scenes.
+
+``tethersim report mission BAG...`` reads runs of ``indoor_flight``, ``outdoor_flight`` and
+their ``*_no_control`` variants (run directories, bag directories or ``.mcap`` files) and
+writes, per run, ``<run>_flight.png`` (UAV altitude with the platform heave, their
+cross-correlation, the horizontal track), ``<run>_tether.png`` (tether snapshots against
+the catenary reference, the shape error), ``<run>_errors.png`` (estimator and length
+errors) and ``<run>_clearance.png`` (lowest point above deck and sea), and a table of the
+figures beside the thesis's.
+
+Definitions. Every statistic is taken over the station-keeping window: from the UAV's
+first arrival within :data:`uav_bridge.report.ARRIVAL` of the station during the mission's
+``hold`` phase to the phase's end (:func:`uav_bridge.report.hold_interval`).
+
+* station keeping (Sec. 6.3): peak-to-peak and standard deviation of the UAV altitude
+  (``/uav/pose`` z) and the largest horizontal distance from its mean position;
+* decoupling (Fig. 6.10b): normalised cross-correlation of the UAV altitude with the
+  platform heave (``/platform/state``), both on the platform's stamps, means removed,
+  ``c(k) = Σ x_i y_(i+k) / (N σ_x σ_y)`` at every lag k; the largest ``|c|``;
+* tether shape (Sec. 6.3, Fig. 6.9): at each ``/tether/nodes`` message, 11 points evenly
+  spaced in unstretched arc length strictly between the reel and the UAV (the thesis's
+  11 markers) against the points at the same arc fractions of the catenary of the
+  reference length (Eq. 4.4/4.5) between the same ends
+  (:func:`tether_dynamics.plant_markers.reference_shape`); the mean distance and its std;
+* Table 6.3: estimator error = ``/estimate/relative`` Δz minus ``/truth/relative`` Δz at
+  equal stamps (initialised estimates only); length error = encoder length
+  (``/reel/state``) minus the reference length of the true relative position, as the
+  surrogate report defines it; mean of the absolute error and RMSE;
+* fouling: the lowest point on or below the deck (``clearance_deck`` plus the reel's
+  ``guide_height``) or the sea (``fouling``); events are rising edges; also the time the
+  lowest point hangs more than :data:`SAG` below the guide way.
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+from dataclasses import dataclass
+from pathlib import Path
+
+import matplotlib
+
+matplotlib.use('Agg')
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+import yaml  # noqa: E402
+
+from tether_bringup.bag_reader import Bag  # noqa: E402
+from tether_bringup.bag_reader import BagError  # noqa: E402
+from tether_bringup.bag_reader import read_bag  # noqa: E402
+from tether_common.command_line import Command  # noqa: E402
+from tether_common.command_line import UsageError  # noqa: E402
+from tether_common.command_line import analysis  # noqa: E402
+from tether_dynamics.plant_markers import reference_shape  # noqa: E402
+from tether_dynamics.statics.reference_length import reference_lengths  # noqa: E402
+from uav_bridge.report import ARRIVAL  # noqa: E402
+from uav_bridge.report import THESIS_INDOOR  # noqa: E402
+from uav_bridge.report import hold_interval  # noqa: E402
+from uav_bridge.report import station_keeping  # noqa: E402
+
+THESIS = {
+    'xcorr': 0.2,                    # Sec. 6.3, Fig. 6.10b: under 0.2 at all lags
+    'shape_mean': 0.076, 'shape_std': 0.0378,     # Sec. 6.3: 11 nodes, eight trials
+    'dz_mean': (0.0054, 0.0082), 'dz_rmse': (0.0080, 0.012),     # Table 6.3, range over the four profiles
+    'length_mean': (0.0096, 0.0118), 'length_rmse': (0.0132, 0.0163),
+}
+SHAPE_POINTS = 11
+"""Tether points compared with the reference shape (the thesis's 11 motion-capture markers)."""
+SAG = 0.1
+"""m: the lowest point this far below the guide way counts as the tether sagging below the reel."""
+GUIDE_HEIGHT = 0.3
+"""m, the reel node's default ``guide_height`` (guide way above the deck), used when the run has no params/reel.yaml."""
+
+
+@dataclass
+class Run:
+    """The recorded series of one flight run (times in s of sim time)."""
+
+    path: Path
+    name: str
+    poses: np.ndarray          # (t, x, y, z), UAV in world
+    phases: list               # (t, phase, reason, station)
+    heave: np.ndarray          # (t, heave)
+    nodes: list                # (t, positions (n, 3), arc length (n,))
+    tether: dict               # t, clearance_deck, clearance_sea, fouling, length
+    truth: dict                # t, dr, dz
+    estimate: dict             # t, dz, initialized
+    reel: dict                 # t, length, mode
+    trips: int
+    guide_height: float
+
+
+def _t(msg) -> float:
+    return msg.header.stamp.sec + msg.header.stamp.nanosec * 1e-9
+
+
+def _series(bag: Bag, topic: str, fields: dict) -> dict:
+    rows = [(_t(m), *(f(m) for f in fields.values())) for _, m in bag.decoded(topic)] if topic in bag.topics else []
+    array = np.array(rows, dtype=float).reshape(-1, len(fields) + 1)
+    return {'t': array[:, 0], **{name: array[:, i + 1] for i, name in enumerate(fields)}}
+
+
+def _guide_height(path: Path) -> float:
+    start = path.resolve()
+    for directory in (start, *start.parents[:2]):
+        file = directory / 'params' / 'reel.yaml'
+        if file.is_file():
+            try:
+                return float(yaml.safe_load(file.read_text())['/**']['ros__parameters'].get('guide_height',
+                                                                                           GUIDE_HEIGHT))
+            except (yaml.YAMLError, KeyError, TypeError, ValueError):
+                return GUIDE_HEIGHT
+    return GUIDE_HEIGHT
+
+
+def load_run(path: str | Path) -> Run:
+    """Read one flight run's bag.
+
+    Raises:
+        UsageError: the bag cannot be read or holds no UAV poses or mission phases.
+    """
+    path = Path(path)
+    try:
+        bag = read_bag(path)
+        missing = [t for t in ('/uav/pose', '/mission/state', '/platform/state', '/tether/state')
+                   if t not in bag.topics]
+        if missing:
+            raise UsageError(f'{path}: not a flight run: no {", ".join(missing)} in the bag')
+        poses = np.array([(_t(m), m.pose.position.x, m.pose.position.y, m.pose.position.z)
+                          for _, m in bag.decoded('/uav/pose')], dtype=float).reshape(-1, 4)
+        phases = [(_t(m), m.phase, m.reason, (m.station.x, m.station.y, m.station.z))
+                  for _, m in bag.decoded('/mission/state')]
+        heave = _series(bag, '/platform/state', {'heave': lambda m: m.heave})
+        nodes = [(_t(m), np.array([(p.x, p.y, p.z) for p in m.positions]), np.array(m.arc_length))
+                 for _, m in bag.decoded('/tether/nodes')] if '/tether/nodes' in bag.topics else []
+        tether = _series(bag, '/tether/state', {
+            'clearance_deck': lambda m: m.clearance_deck, 'clearance_sea': lambda m: m.clearance_sea,
+            'fouling': lambda m: float(m.fouling), 'length': lambda m: m.deployed_length})
+        truth = _series(bag, '/truth/relative', {'dr': lambda m: math.hypot(m.position.x, m.position.y),
+                                                 'dz': lambda m: m.position.z})
+        estimate = _series(bag, '/estimate/relative', {'dz': lambda m: m.dz, 'initialized': lambda m: m.initialized})
+        reel = _series(bag, '/reel/state', {'length': lambda m: m.deployed_length, 'mode': lambda m: m.mode})
+        trips = _series(bag, '/reel/diagnostics', {'count': lambda m: m.trip_count})
+    except BagError as error:
+        raise UsageError(f'{path}: cannot read the bag: {error}') from None
+    directory = path.resolve() if path.is_dir() else path.resolve().parent
+    name = directory.parent.name if directory.name == 'bag' else directory.name
+    return Run(path, name, poses, phases, np.column_stack([heave['t'], heave['heave']]), nodes, tether, truth,
+               estimate, reel, int(trips['count'].max()) if len(trips['t']) else 0, _guide_height(path))
+
+
+def cross_correlation(x: np.ndarray, y: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Lags (samples) and the normalised cross-correlation ``Σ x_i y_(i+k) / (N σ_x σ_y)`` at every lag.
+
+    Means removed; 0 everywhere for a constant series.
+    """
+    x = np.asarray(x, dtype=float) - np.mean(x)
+    y = np.asarray(y, dtype=float) - np.mean(y)
+    n = len(x)
+    scale = n * np.std(x) * np.std(y)
+    corr = np.correlate(y, x, mode='full') / scale if scale > 0 else np.zeros(2 * n - 1)
+    return np.arange(-(n - 1), n), corr
+
+
+def shape_errors(positions: np.ndarray, arc_length: np.ndarray, n: int = SHAPE_POINTS) -> tuple[np.ndarray,
+                                                                                                    np.ndarray]:
+    """Distances (m) of ``n`` tether points from the reference catenary's, and those tether points.
+
+    The points lie at arc fractions ``k / (n + 1)``, k = 1..n, of the tether (by unstretched arc
+    length) and of the reference catenary between the same two ends.
+    """
+    fractions = np.arange(1, n + 1) / (n + 1)
+    s = fractions * arc_length[-1]
+    points = np.column_stack([np.interp(s, arc_length, positions[:, i]) for i in range(3)])
+    reference = reference_shape(positions[0], positions[-1], n + 2)[1:-1]
+    return np.linalg.norm(points - reference, axis=1), points
+
+
+def _window(t: np.ndarray, interval: tuple[float, float]) -> np.ndarray:
+    return (t >= interval[0]) & (t < interval[1])
+
+
+def _events(flag: np.ndarray) -> int:
+    return int(np.sum(flag[1:] & ~flag[:-1]) + (1 if len(flag) and flag[0] else 0))
+
+
+def analyse(run: Run) -> dict:
+    """The figures of one run (see the module docstring for the definitions)."""
+    result: dict = {'run': run}
+    interval = hold_interval(run.phases, run.poses) if run.poses.shape[0] else None
+    result['interval'] = interval
+    result['phases'] = list(dict.fromkeys(phase for _, phase, _, _ in run.phases))
+    result['end'] = run.phases[-1][2] if run.phases else ''
+    tt = run.tether['t']
+    deck = run.tether['clearance_deck'] + run.guide_height
+    fouled = (deck <= 0.0) | (run.tether['fouling'] > 0.5)
+    sag = run.tether['clearance_deck'] < -SAG
+    dt = float(np.median(np.diff(tt))) if len(tt) > 1 else 0.0
+    result.update(fouling_events=_events(fouled), fouled_time=float(fouled.sum() * dt),
+                  sag_time=float(sag.sum() * dt), min_deck=float(deck.min()) if len(tt) else math.nan,
+                  min_sea=float(run.tether['clearance_sea'].min()) if len(tt) else math.nan,
+                  first_fouled=float(tt[np.argmax(fouled)]) if fouled.any() else math.nan, trips=run.trips,
+                  duration=float(tt[-1] - tt[0]) if len(tt) else 0.0)
+    if interval is None:
+        return result
+    end = min(interval[1], run.poses[-1, 0])
+    result['window'] = (interval[0], end)
+    inside = _window(run.poses[:, 0], interval)
+    station = run.phases[-1][3]
+    result['station'] = station
+    result['keeping'] = station_keeping(run.poses[inside, 1:], station)
+    heave_in = _window(run.heave[:, 0], interval)
+    th, heave = run.heave[heave_in, 0], run.heave[heave_in, 1]
+    if len(th) > 10:
+        altitude = np.interp(th, run.poses[:, 0], run.poses[:, 3])
+        lags, corr = cross_correlation(altitude, heave)
+        result['xcorr'] = (lags * float(np.median(np.diff(th))), corr)
+        k = int(np.argmax(np.abs(corr)))
+        result['xcorr_max'] = (float(abs(corr[k])), float(lags[k] * np.median(np.diff(th))))
+    snapshots = [(t, p, a) for t, p, a in run.nodes if interval[0] <= t < interval[1] and len(p) >= 2]
+    if snapshots:
+        errors = np.array([shape_errors(p, a)[0] for _, p, a in snapshots])
+        result['shape'] = (np.array([t for t, _, _ in snapshots]), errors)
+        result['shape_mean'], result['shape_std'] = float(errors.mean()), float(errors.std())
+        result['snapshots'] = snapshots
+    est_in = _window(run.estimate['t'], interval) & (run.estimate['initialized'] > 0.5)
+    if est_in.any() and len(run.truth['t']):
+        common, i_est, i_truth = np.intersect1d(run.estimate['t'][est_in].round(6), run.truth['t'].round(6),
+                                                return_indices=True)
+        error = run.estimate['dz'][est_in][i_est] - run.truth['dz'][i_truth]
+        result['dz_error'] = (common, error)
+    reel_in = _window(run.reel['t'], interval)
+    if reel_in.any() and len(run.truth['t']):
+        tr = run.reel['t'][reel_in]
+        dr = np.interp(tr, run.truth['t'], run.truth['dr'])
+        dz = np.interp(tr, run.truth['t'], run.truth['dz'])
+        model, _ = reference_lengths(dr, dz, 'poly')
+        result['length_error'] = (tr, run.reel['length'][reel_in] - model)
+    return result
+
+
+def _stats(error: np.ndarray) -> tuple[float, float]:
+    return float(np.mean(np.abs(error))), float(np.sqrt(np.mean(error ** 2)))
+
+
+def summary_lines(r: dict) -> list[str]:
+    """The text of one run's figures beside the thesis's (every number from the run)."""
+    run = r['run']
+    lines = [f'{run.name}: {r["duration"]:.1f} s recorded; mission phases: {" → ".join(r["phases"]) or "none"}'
+             + (f'; ended: {r["end"]}' if r['end'] else '')]
+    if r['interval'] is None:
+        lines.append(f'  the UAV never held station (came within {ARRIVAL:g} m of it in the hold phase): no '
+                     'station-keeping, decoupling, shape or error figures')
+    else:
+        start, end = r['window']
+        k, station = r['keeping'], r['station']
+        lines.append(f'  station {station[2]:g} m up, {math.hypot(station[0], station[1]):g} m radial; held '
+                     f'{start:.1f}-{end:.1f} s ({end - start:.1f} s from arrival within {ARRIVAL:g} m)')
+        lines.append(f'  UAV altitude peak-to-peak {k["peak_to_peak"]:.3f} m (thesis indoor '
+                     f'{THESIS_INDOOR["peak_to_peak"]} m), std {k["std"]:.3f} m ({THESIS_INDOOR["std"]} m), '
+                     f'horizontal radius {k["radius"]:.3f} m ({THESIS_INDOOR["radius"]} m)')
+        if 'xcorr_max' in r:
+            value, lag = r['xcorr_max']
+            verdict = 'under' if value < THESIS['xcorr'] else 'not under'
+            lines.append(f'  |normalised cross-correlation| of UAV altitude and platform heave: largest {value:.3f} '
+                         f'at lag {lag:+.2f} s, {verdict} the thesis\'s {THESIS["xcorr"]} at all lags')
+        if 'shape_mean' in r:
+            lines.append(f'  tether shape vs catenary reference: mean node error {r["shape_mean"]:.3f} m, std '
+                         f'{r["shape_std"]:.3f} m over {SHAPE_POINTS} nodes x {len(r["shape"][0])} snapshots '
+                         f'(thesis {THESIS["shape_mean"]} m, std {THESIS["shape_std"]} m)')
+        if 'dz_error' in r:
+            mean, rmse = _stats(r['dz_error'][1])
+            lines.append(f'  estimator Δz: mean |error| {mean:.4f} m, RMSE {rmse:.4f} m over {len(r["dz_error"][1])} '
+                         f'estimates (Table 6.3: {THESIS["dz_mean"][0]}-{THESIS["dz_mean"][1]} m, '
+                         f'{THESIS["dz_rmse"][0]}-{THESIS["dz_rmse"][1]} m)')
+        if 'length_error' in r:
+            mean, rmse = _stats(r['length_error'][1])
+            lines.append(f'  length L: mean |error| {mean:.4f} m, RMSE {rmse:.4f} m (Table 6.3: '
+                         f'{THESIS["length_mean"][0]}-{THESIS["length_mean"][1]} m, '
+                         f'{THESIS["length_rmse"][0]}-{THESIS["length_rmse"][1]} m)')
+    first = f', first at {r["first_fouled"]:.1f} s' if r['fouling_events'] else ''
+    lines.append(f'  fouling: {r["fouling_events"]} events (lowest point on the deck or in the sea), '
+                 f'{r["fouled_time"]:.1f} s fouled{first}; lowest point more than {SAG:g} m below the guide way for '
+                 f'{r["sag_time"]:.1f} s; least clearance above deck {r["min_deck"]:.2f} m, above sea '
+                 f'{r["min_sea"]:.2f} m; reel safety trips {r["trips"]}')
+    return lines
+
+
+def plot(r: dict, out: Path) -> list[str]:
+    """Write the run's PNGs; return their names."""
+    run = r['run']
+    names = []
+    t0 = run.poses[0, 0] if run.poses.shape[0] else 0.0
+    fig, axes = plt.subplots(1, 3, figsize=(15, 4.2), gridspec_kw={'width_ratios': [2, 1.2, 1]})
+    ax = axes[0]
+    ax.plot(run.poses[:, 0] - t0, run.poses[:, 3], color='tab:blue', lw=1.0, label='UAV altitude (m)')
+    ax.set_xlabel('t (s)')
+    ax.set_ylabel('UAV altitude (m)')
+    twin = ax.twinx()
+    twin.plot(run.heave[:, 0] - t0, run.heave[:, 1], color='tab:orange', lw=0.8, label='platform heave (m)')
+    twin.set_ylabel('platform heave (m)')
+    if r['interval'] is not None:
+        ax.axvspan(r['window'][0] - t0, r['window'][1] - t0, color='tab:green', alpha=0.1, label='station kept')
+    ax.legend(loc='upper left', fontsize=8)
+    twin.legend(loc='upper right', fontsize=8)
+    ax.set_title('UAV altitude and platform heave')
+    if 'xcorr' in r:
+        lags, corr = r['xcorr']
+        axes[1].plot(lags, corr, lw=0.8)
+        for level in (THESIS['xcorr'], -THESIS['xcorr']):
+            axes[1].axhline(level, color='k', ls=':', lw=0.8)
+        axes[1].set_ylim(-1, 1)
+    axes[1].set_xlabel('lag (s)')
+    axes[1].set_title('normalised cross-correlation')
+    axes[2].plot(run.poses[:, 1], run.poses[:, 2], lw=0.8)
+    if r['interval'] is not None:
+        station = r['station']
+        axes[2].plot(station[0], station[1], 'k+', ms=12, label='station')
+        axes[2].legend(fontsize=8)
+    axes[2].set_xlabel('x east (m)')
+    axes[2].set_ylabel('y north (m)')
+    axes[2].set_aspect('equal', adjustable='datalim')
+    axes[2].set_title('UAV track')
+    fig.tight_layout()
+    names.append(f'{run.name}_flight.png')
+    fig.savefig(out / names[-1], dpi=100)
+    plt.close(fig)
+
+    if 'snapshots' in r:
+        fig, (ax_s, ax_e) = plt.subplots(1, 2, figsize=(13, 4.5))
+        snaps = r['snapshots']
+        for index, color in zip((0, len(snaps) // 2, len(snaps) - 1), ('tab:blue', 'tab:green', 'tab:red')):
+            t, positions, arc = snaps[index]
+            _, points = shape_errors(positions, arc)
+            radial = np.hypot(positions[:, 0] - positions[0, 0], positions[:, 1] - positions[0, 1])
+            reference = reference_shape(positions[0], positions[-1])
+            ref_r = np.hypot(reference[:, 0] - positions[0, 0], reference[:, 1] - positions[0, 1])
+            ax_s.plot(radial, positions[:, 2], color=color, lw=1.2, label=f'tether {t - t0:.1f} s')
+            ax_s.plot(ref_r, reference[:, 2], color=color, ls='--', lw=0.8, label='catenary reference')
+            ax_s.plot(np.hypot(points[:, 0] - positions[0, 0], points[:, 1] - positions[0, 1]), points[:, 2], 'o',
+                      color=color, ms=3)
+        ax_s.set_xlabel('horizontal distance from the guide way (m)')
+        ax_s.set_ylabel('z (m, world)')
+        ax_s.legend(fontsize=7)
+        ax_s.set_title('tether against the catenary of the reference length')
+        times, errors = r['shape']
+        ax_e.plot(times - t0, errors.mean(axis=1), lw=0.8, label='mean over the 11 nodes')
+        ax_e.axhline(THESIS['shape_mean'], color='k', ls=':', label=f'thesis {THESIS["shape_mean"]} m')
+        ax_e.set_xlabel('t (s)')
+        ax_e.set_ylabel('node error (m)')
+        ax_e.legend(fontsize=8)
+        fig.tight_layout()
+        names.append(f'{run.name}_tether.png')
+        fig.savefig(out / names[-1], dpi=100)
+        plt.close(fig)
+
+    if 'dz_error' in r or 'length_error' in r:
+        fig, ax = plt.subplots(figsize=(11, 4))
+        if 'dz_error' in r:
+            ax.plot(r['dz_error'][0] - t0, r['dz_error'][1], lw=0.6, label='estimator Δz error')
+        if 'length_error' in r:
+            ax.plot(r['length_error'][0] - t0, r['length_error'][1], lw=0.8, label='length error (encoder - reference)')
+        ax.set_xlabel('t (s)')
+        ax.set_ylabel('m')
+        ax.legend(fontsize=8)
+        ax.set_title('Table 6.3 errors over the station-keeping window')
+        fig.tight_layout()
+        names.append(f'{run.name}_errors.png')
+        fig.savefig(out / names[-1], dpi=100)
+        plt.close(fig)
+
+    tt = run.tether['t']
+    if len(tt):
+        fig, ax = plt.subplots(figsize=(11, 4))
+        ax.plot(tt - t0, run.tether['clearance_deck'] + run.guide_height, lw=0.8, label='lowest point above deck')
+        ax.plot(tt - t0, run.tether['clearance_sea'], lw=0.8, label='lowest point above sea')
+        ax.axhline(0.0, color='k', lw=0.8)
+        ax.set_xlabel('t (s)')
+        ax.set_ylabel('m')
+        ax.legend(fontsize=8)
+        ax.set_title(f'fouling clearance: {r["fouling_events"]} events')
+        fig.tight_layout()
+        names.append(f'{run.name}_clearance.png')
+        fig.savefig(out / names[-1], dpi=100)
+        plt.close(fig)
+    return names
+
+
+def report(paths: list[str], out: Path) -> str:
+    """Analyse and plot each run; return the summary text."""
+    lines = []
+    for path in paths:
+        r = analyse(load_run(path))
+        lines += summary_lines(r)
+        lines.append('  plots: ' + ', '.join(plot(r, out)))
+    return '\n'.join(lines)
+
+
+def mission_report(bag_path: str, out_dir: str) -> list[str]:
+    """Scene report: the mission figures of one run."""
+    out = Path(out_dir)
+    out.mkdir(parents=True, exist_ok=True)
+    return report([bag_path], out).splitlines()
+
+
+def _arguments(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument('bags', nargs='+', help='run directories, bag directories or .mcap files')
+    parser.add_argument('--out', type=Path, default=Path('runs/report-mission'), help='output directory')
+
+
+def _command(args: argparse.Namespace) -> str:
+    return report(args.bags, args.out)
+
+
+COMMAND = Command('UAV missions (Sec. 6.3, 6.4, Table 6.3): station keeping, decoupling from the heave, tether '
+                  'shape, estimator and length errors, fouling', _arguments, analysis('tethersim report mission',
+                                                                                      _command))
