@@ -5,7 +5,7 @@ PYTHON ?= python3.11
 VENV := .venv
 STAMP_VENV := $(VENV)/.requirements-installed
 STAMP_BUILD := install/.build-stamp
-SCENE ?= tether_demo
+SCENE ?= outdoor_flight
 ARGS ?=
 
 export AMENT_PREFIX_PATH := $(CURDIR)/$(VENV)

@@ -2,14 +2,20 @@
 
 from __future__ import annotations
 
+import time
+
 import pytest
 
 rclpy = pytest.importorskip('rclpy')
 
 from geometry_msgs.msg import WrenchStamped  # noqa: E402
+from rclpy.clock import Clock as RosClock  # noqa: E402
+from rclpy.clock import ClockType  # noqa: E402
+from rosgraph_msgs.msg import Clock  # noqa: E402
 from tether_msgs.msg import MissionState  # noqa: E402
 from tether_msgs.msg import ReelState  # noqa: E402
 
+from tether_common.qos import CLOCK  # noqa: E402
 from tether_common.qos import LATCHED  # noqa: E402
 from tether_common.qos import STATE  # noqa: E402
 from test_uav_bridge_node import Probe  # noqa: E402
@@ -17,30 +23,50 @@ from test_uav_bridge_node import ros_domain  # noqa: E402,F401 - fixture
 from test_uav_bridge_peer import wait_until  # noqa: E402
 from test_uav_mission_node import _start  # noqa: E402
 from test_uav_mission_node import assert_clean_exits  # noqa: E402
-from test_uav_mission_node import publish_clock  # noqa: E402
 from test_uav_mission_node import stop_nodes  # noqa: E402
+
+
+def publish_clock_and_wrench(probe, pull: WrenchStamped) -> None:
+    """Drive ``/clock`` at wall speed in 10 ms steps and, as the plant would, a wrench stamped with each step.
+
+    The built-in UAV takes ``/tether/uav_wrench`` as a lockstep input (one step late), so
+    every step needs its wrench; ``pull`` is the force sent (zero until the test sets it).
+    """
+    clock = probe.node.create_publisher(Clock, '/clock', CLOCK)
+    wrench = probe.node.create_publisher(WrenchStamped, '/tether/uav_wrench', STATE)
+    start = time.monotonic()
+    sent = [0]
+
+    def tick() -> None:
+        step = int((time.monotonic() - start) * 100)
+        if step <= sent[0]:
+            return
+        sent[0] = step
+        msg = Clock()
+        msg.clock.sec, msg.clock.nanosec = divmod(step * 10_000_000, 1_000_000_000)
+        pull.header.stamp = msg.clock
+        wrench.publish(pull)
+        clock.publish(msg)
+    probe.node.create_timer(0.01, tick, clock=RosClock(clock_type=ClockType.STEADY_TIME))
 
 
 def test_mission_flies_the_builtin_uav_against_a_tether_pull(ros_domain):  # noqa: F811
     processes = [
-        _start('uav_bridge.builtin_uav_node', 'start:=[0.0, 0.0, 0.3]', domain=ros_domain),
+        _start('uav_bridge.builtin_uav_node', 'start:=[0.0, 0.0, 0.3]', 'tether_force:=topic', domain=ros_domain),
         _start('uav_bridge.mission_node', 'altitude:=5.0', 'radial:=2.5', 'retry_period:=0.5', domain=ros_domain)]
     probe = Probe()
-    publish_clock(probe)
+    pull = WrenchStamped()
+    pull.header.frame_id = 'world'
+    publish_clock_and_wrench(probe, pull)
     phases = []
     probe.node.create_subscription(MissionState, '/mission/state', phases.append, LATCHED)
     reel = probe.node.create_publisher(ReelState, '/reel/state', STATE)
-    wrench = probe.node.create_publisher(WrenchStamped, '/tether/uav_wrench', STATE)
-    pull = WrenchStamped()
-    pull.header.frame_id = 'world'
-    pull.wrench.force.x, pull.wrench.force.z = -2.0, -3.0      # toward the reel and down
     try:
         wait_until(lambda: probe.state() is not None, timeout=60, what='/uav/state')
         assert probe.state().position_ready and probe.state().connected
         wait_until(lambda: phases and phases[-1].phase == 'hold', timeout=60, what='the hold phase')
         assert phases[0].phase == 'wait' and {'arm', 'takeoff', 'climb'} <= {p.phase for p in phases}
-        pull.header.stamp = probe.got['pose'][-1].header.stamp
-        wrench.publish(pull)
+        pull.wrench.force.x, pull.wrench.force.z = -2.0, -3.0      # toward the reel and down
         wait_until(lambda: probe.got['pose'] and abs(probe.got['pose'][-1].pose.position.x - 2.5) < 0.03
                    and abs(probe.got['pose'][-1].pose.position.z - 5.0) < 0.03
                    and abs(probe.got['twist'][-1].twist.linear.x) < 0.01, timeout=60, what='the station')

@@ -78,18 +78,27 @@ class EstimatorNode(Node):
         buffer[t_ns] = imu_vertical(msg)
         if buffer is self.reel:
             self.newest_ns = t_ns if self.newest_ns is None else max(self.newest_ns, t_ns)
+            self.filter(self.lockstep.clock_ns)
 
     def on_fix(self, msg: DgpsFix) -> None:
         """Keep a fix until the filter reaches its arrival stamp."""
         self.fixes.append(fix_from_message(msg))
 
     def on_tick(self, tick: Tick) -> None:
-        """Run every filter tick up to the newest reel IMU stamp minus the input delay."""
+        """Filter up to the tick."""
+        self.filter(tick.time_ns)
+
+    def filter(self, until_ns: int) -> None:
+        """Run every filter tick up to ``until_ns`` and the newest reel IMU stamp minus the input delay.
+
+        Called at each lockstep tick and as reel IMU samples arrive (up to the latest ``/clock``),
+        so that an estimate a consumer waits for by stamp comes once its samples are in.
+        """
         if self.newest_ns is None:
             return
         if self.next_ns is None:
             self.next_ns = min(self.reel)
-        target = min(self.newest_ns - self.delay_ns, tick.time_ns)
+        target = min(self.newest_ns - self.delay_ns, until_ns)
         while self.next_ns <= target:
             t_ns = self.next_ns
             t = t_ns * 1e-9

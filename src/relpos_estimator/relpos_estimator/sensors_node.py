@@ -111,23 +111,33 @@ class SensorsNode(Node):
         """Keep the reel pose by stamp."""
         p, q = msg.pose.position, msg.pose.orientation
         self.poses[stamp_ns(msg.header.stamp)] = (np.array([p.x, p.y, p.z]), np.array([q.x, q.y, q.z, q.w]))
+        self.simulate(self.lockstep.clock_ns)
 
     def on_state(self, msg: PlatformState) -> None:
         """Keep the slider speeds by stamp."""
         self.sliders[stamp_ns(msg.header.stamp)] = np.array(msg.slider_velocity, dtype=float)
+        self.simulate(self.lockstep.clock_ns)
 
     def on_relative(self, msg: RelativePosition) -> None:
         """Keep the true relative position and acceleration by stamp."""
         p, a = msg.position, msg.acceleration
         self.relative[stamp_ns(msg.header.stamp)] = (np.array([p.x, p.y, p.z]), np.array([a.x, a.y, a.z]))
+        self.simulate(self.lockstep.clock_ns)
 
     def on_tick(self, tick: Tick) -> None:
-        """Simulate, in order, every tick whose inputs are in; skip a tick whose inputs can no longer come."""
+        """Simulate up to the tick."""
+        self.simulate(tick.time_ns)
+
+    def simulate(self, until_ns: int) -> None:
+        """Simulate, in order, every tick up to ``until_ns`` whose inputs are in; skip one whose inputs can no
+        longer come. Called at each lockstep tick and as inputs arrive (up to the latest ``/clock``), so that
+        outputs a consumer waits for by stamp come once their inputs are in, without waiting for the next tick.
+        """
         if self.next_ns is None:
             if not self.poses:
                 return
             self.next_ns = min(self.poses) + self.period_ns
-        while self.next_ns + self.period_ns <= tick.time_ns:
+        while self.next_ns + self.period_ns <= until_ns:
             t_ns = self.next_ns
             truth = self.truth(t_ns)
             if truth is None:

@@ -122,8 +122,7 @@ def load_run(path: str | Path) -> Run:
     path = Path(path)
     try:
         bag = read_bag(path)
-        missing = [t for t in ('/uav/pose', '/mission/state', '/platform/state', '/tether/state')
-                   if t not in bag.topics]
+        missing = [t for t in ('/uav/pose', '/mission/state', '/platform/state') if t not in bag.topics]
         if missing:
             raise UsageError(f'{path}: not a flight run: no {", ".join(missing)} in the bag')
         poses = np.array([(_t(m), m.pose.position.x, m.pose.position.y, m.pose.position.z)
@@ -278,6 +277,9 @@ def summary_lines(r: dict) -> list[str]:
             lines.append(f'  length L: mean |error| {mean:.4f} m, RMSE {rmse:.4f} m (Table 6.3: '
                          f'{THESIS["length_mean"][0]}-{THESIS["length_mean"][1]} m, '
                          f'{THESIS["length_rmse"][0]}-{THESIS["length_rmse"][1]} m)')
+    if not len(run.tether['t']):
+        lines.append('  no tether plant in this run (no /tether/state): no shape, length or fouling figures')
+        return lines
     first = f', first at {r["first_fouled"]:.1f} s' if r['fouling_events'] else ''
     lines.append(f'  fouling: {r["fouling_events"]} events (lowest point on the deck or in the sea), '
                  f'{r["fouled_time"]:.1f} s fouled{first}; lowest point more than {SAG:g} m below the guide way for '

@@ -1,0 +1,48 @@
+"""`tethersim run outdoor_flight`, briefly: the built-in UAV holds station against the tether, the report runs."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from tethersim_testing import processes_of
+from tethersim_testing import tethersim
+from uav_bridge.mission_report import analyse
+from uav_bridge.mission_report import load_run
+
+DURATION = 8.0
+"""s of sim time: the climb of 2 m to the station and a few seconds of station keeping."""
+
+
+@pytest.fixture(scope='module')
+def run(tmp_path_factory):
+    out = tmp_path_factory.mktemp('outdoor') / 'run'
+    result = tethersim('run', 'outdoor_flight', '--duration', str(DURATION), '--rate', 'max', '--out', str(out),
+                       timeout=600)
+    assert result.returncode == 0, result.stderr[-3000:]
+    return out
+
+
+def test_the_uav_reaches_and_holds_its_station_against_the_tether(run):
+    r = analyse(load_run(run))
+    assert r['phases'][:3] == ['takeoff', 'climb', 'hold'] and not r['end']
+    start, end = r['window']
+    assert start < 4.0 and end == pytest.approx(DURATION, abs=0.02)
+    np.testing.assert_allclose(r['station'], (15.0, 0.0, 30.0))
+    assert r['keeping']['from_station'] < 0.5                   # never left the station by 0.5 m once there
+    poses = r['run'].poses
+    assert np.all(np.isfinite(poses)) and poses[-1, 0] == pytest.approx(DURATION, abs=0.02)
+    tether = r['run'].tether
+    assert len(tether['t']) == round(DURATION * 100)           # the plant stepped every 10 ms with the UAV's pose
+    assert 30.0 < tether['length'].min() and tether['length'].max() < 40.0
+    assert r['shape_mean'] < 1.0 and r['fouling_events'] == 0
+
+
+def test_the_report_prints_the_mission_figures_and_writes_its_plots(run):
+    summary = (run / 'summary.txt').read_text()
+    for text in ('UAV altitude peak-to-peak', 'normalised cross-correlation', 'tether shape vs catenary reference',
+                 'estimator Δz', 'length L', 'fouling:'):
+        assert text in summary, summary
+    for name in ('flight', 'tether', 'errors', 'clearance'):
+        assert (run / f'run_{name}.png').stat().st_size > 10_000
+    assert processes_of(run) == []
