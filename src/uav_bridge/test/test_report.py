@@ -27,9 +27,11 @@ def test_hold_window_opens_when_the_uav_reaches_the_station():
     # at 4.6 m until 50 s, then crossing 2.5 m horizontally at 0.1 m/s: within 0.5 m at 70 s
     x = np.clip((t - 50.0) * 0.1, 0.0, 2.5)
     poses = np.column_stack([t, x, np.zeros_like(t), np.where(t < 50.0, 4.6, 5.0)])
-    assert hold_interval(phases, poses) == (70.0, 90.0)
-    assert hold_interval(phases, poses, arrival=3.0) == (50.0, 90.0)
-    assert hold_interval(phases[:3], poses) == (70.0, np.inf)
+    assert hold_interval(phases, poses, settle=0.0) == (70.0, 90.0)
+    assert hold_interval(phases, poses) == (75.0, 90.0)                  # 5 s to settle after the arrival
+    assert hold_interval(phases, poses, arrival=3.0) == (55.0, 90.0)
+    assert hold_interval(phases[:3], poses) == (75.0, np.inf)
     assert hold_interval(phases[:2], poses) is None
+    assert hold_interval(phases, poses, settle=20.0) is None            # would open after the hold ended
     poses[:, 1] = 0.0                                     # never came within 0.5 m of the station
     assert hold_interval(phases, poses) is None

@@ -8,9 +8,10 @@ the catenary reference, the shape error), ``<run>_errors.png`` (estimator and le
 errors) and ``<run>_clearance.png`` (lowest point above deck and sea), and a table of the
 figures beside the thesis's.
 
-Definitions. Every statistic is taken over the station-keeping window: from the UAV's
-first arrival within :data:`uav_bridge.report.ARRIVAL` of the station during the mission's
-``hold`` phase to the phase's end (:func:`uav_bridge.report.hold_interval`).
+Definitions. Every statistic is taken over the station-keeping window: from
+:data:`uav_bridge.report.SETTLE` after the UAV's first arrival within
+:data:`uav_bridge.report.ARRIVAL` of the station during the mission's ``hold`` phase to the
+phase's end (:func:`uav_bridge.report.hold_interval`).
 
 * station keeping (Sec. 6.3): peak-to-peak and standard deviation of the UAV altitude
   (``/uav/pose`` z) and the largest horizontal distance from its mean position;
@@ -54,6 +55,7 @@ from tether_common.command_line import analysis  # noqa: E402
 from tether_dynamics.plant_markers import reference_shape  # noqa: E402
 from tether_dynamics.statics.reference_length import reference_lengths  # noqa: E402
 from uav_bridge.report import ARRIVAL  # noqa: E402
+from uav_bridge.report import SETTLE  # noqa: E402
 from uav_bridge.report import THESIS_INDOOR  # noqa: E402
 from uav_bridge.report import hold_interval  # noqa: E402
 from uav_bridge.report import station_keeping  # noqa: E402
@@ -199,7 +201,7 @@ def analyse(run: Run) -> dict:
                   sag_time=float(sag.sum() * dt), min_deck=float(deck.min()) if len(tt) else math.nan,
                   min_sea=float(run.tether['clearance_sea'].min()) if len(tt) else math.nan,
                   first_fouled=float(tt[np.argmax(fouled)]) if fouled.any() else math.nan, trips=run.trips,
-                  duration=float(tt[-1] - tt[0]) if len(tt) else 0.0)
+                  duration=float(run.poses[-1, 0] - run.poses[0, 0]) if run.poses.shape[0] else 0.0)
     if interval is None:
         return result
     end = min(interval[1], run.poses[-1, 0])
@@ -248,13 +250,13 @@ def summary_lines(r: dict) -> list[str]:
     lines = [f'{run.name}: {r["duration"]:.1f} s recorded; mission phases: {" → ".join(r["phases"]) or "none"}'
              + (f'; ended: {r["end"]}' if r['end'] else '')]
     if r['interval'] is None:
-        lines.append(f'  the UAV never held station (came within {ARRIVAL:g} m of it in the hold phase): no '
-                     'station-keeping, decoupling, shape or error figures')
+        lines.append(f'  the UAV never held station (came within {ARRIVAL:g} m of it in the hold phase, then '
+                     f'{SETTLE:g} s): no station-keeping, decoupling, shape or error figures')
     else:
         start, end = r['window']
         k, station = r['keeping'], r['station']
         lines.append(f'  station {station[2]:g} m up, {math.hypot(station[0], station[1]):g} m radial; held '
-                     f'{start:.1f}-{end:.1f} s ({end - start:.1f} s from arrival within {ARRIVAL:g} m)')
+                     f'{start:.1f}-{end:.1f} s ({end - start:.1f} s, from {SETTLE:g} s after the arrival within {ARRIVAL:g} m)')
         lines.append(f'  UAV altitude peak-to-peak {k["peak_to_peak"]:.3f} m (thesis indoor '
                      f'{THESIS_INDOOR["peak_to_peak"]} m), std {k["std"]:.3f} m ({THESIS_INDOOR["std"]} m), '
                      f'horizontal radius {k["radius"]:.3f} m ({THESIS_INDOOR["radius"]} m)')

@@ -1,8 +1,8 @@
 """After-run report of a UAV flight: station keeping during the mission's hold phase, from a bag.
 
 Reads ``/uav/pose`` (world, ENU), ``/mission/state`` (phases, station) and ``/uav/state``
-(link staleness, reconnects, reboots). During ``hold``, from the UAV's arrival within
-``ARRIVAL`` of the station, it computes the altitude's peak-to-peak
+(link staleness, reconnects, reboots). During ``hold``, from ``SETTLE`` after the UAV's
+arrival within ``ARRIVAL`` of the station, it computes the altitude's peak-to-peak
 range and standard deviation and the horizontal radius about the mean position, the numbers
 the thesis gives for its indoor flights (Sec. 6.3: 1.08 m peak-to-peak, 0.18 m standard
 deviation, within a 0.60 m radius; untethered 0.99 m, 0.18 m, 0.48 m), plus the largest
@@ -26,7 +26,9 @@ from tether_bringup.bag_reader import read_bag  # noqa: E402
 THESIS_INDOOR = {'peak_to_peak': 1.08, 'std': 0.18, 'radius': 0.60}
 THESIS_UNTETHERED = {'peak_to_peak': 0.99, 'std': 0.18, 'radius': 0.48}
 ARRIVAL = 0.5
-"""m: the station-keeping window opens when the UAV first comes this close to the station."""
+"""m: the UAV has arrived at the station when it first comes this close."""
+SETTLE = 5.0
+"""s after the arrival at which the station-keeping window opens (the end of the approach)."""
 
 
 def _stamp(header) -> float:
@@ -52,13 +54,14 @@ def read_flight(bag_path: Path) -> dict:
             'topics': topics}
 
 
-def hold_interval(phases: list, poses: np.ndarray, arrival: float = ARRIVAL) -> tuple[float, float] | None:
+def hold_interval(phases: list, poses: np.ndarray, arrival: float = ARRIVAL,
+                  settle: float = SETTLE) -> tuple[float, float] | None:
     """Start and end (s) of the station-keeping window; None when the UAV never held station.
 
-    The window opens at the first pose of the first ``hold`` phase within ``arrival`` m of
-    the station (the mission enters ``hold`` when the take-off altitude is reached, before
-    the UAV has crossed to the station) and closes when the phase ends (inf while it lasted
-    to the end of the bag).
+    The window opens ``settle`` s after the first pose of the first ``hold`` phase within
+    ``arrival`` m of the station (the mission enters ``hold`` when the take-off altitude is
+    reached, before the UAV has crossed to the station) and closes when the phase ends (inf
+    while it lasted to the end of the bag); None if it would not open before that.
     """
     start = next(((t, station) for t, phase, _, station in phases if phase == 'hold'), None)
     if start is None:
@@ -68,7 +71,8 @@ def hold_interval(phases: list, poses: np.ndarray, arrival: float = ARRIVAL) -> 
     near = during & (np.linalg.norm(poses[:, 1:4] - np.asarray(start[1]), axis=1) <= arrival)
     if not near.any():
         return None
-    return float(poses[np.argmax(near), 0]), end
+    opens = float(poses[np.argmax(near), 0]) + settle
+    return (opens, end) if opens < min(end, poses[-1, 0]) else None
 
 
 def station_keeping(positions: np.ndarray, station) -> dict:
