@@ -55,6 +55,65 @@ def resting_platform(position=(0.0, 0.0, 0.0)) -> Callable[[float], PlatformPose
     return lambda t: pose
 
 
+def heaving_platform(amplitude: float, period: float, position=(0.0, 0.0, 0.0)) -> Callable[[float], PlatformPose]:
+    """A level platform heaving sinusoidally: ``amplitude`` m, ``period`` s, about ``position`` (world)."""
+    centre = np.asarray(position, dtype=float)
+    omega = 2.0 * np.pi / period
+
+    def pose(t: float) -> PlatformPose:
+        heave = np.array([0.0, 0.0, amplitude * np.sin(omega * t)])
+        rate = np.array([0.0, 0.0, amplitude * omega * np.cos(omega * t)])
+        return PlatformPose(centre + heave, np.array([0.0, 0.0, 0.0, 1.0]), rate, np.zeros(3))
+    return pose
+
+
+class StraightTether:
+    """ArduPilot's SIM_Tether model, the baseline: a straight line from the guide way to the UAV.
+
+    The force on the UAV points along the line towards the guide way, with the magnitude of the
+    whole line's weight mu |d| g, plus a spring-damper (``spring`` N/m, ``damping`` N s/m)
+    on the stretch beyond ``max_length``: no sag, no reel, no dynamics of the line (the model
+    of libraries/SITL/SIM_Tether.cpp, there with mu = 0.0167 kg/m, 100 N/m, 10 N s/m). Stepped
+    like :class:`PlantTether`, every ``period`` s with the UAV's centre of mass.
+    """
+
+    def __init__(self, platform: Callable[[float], PlatformPose], guide_way_offset, linear_density: float,
+                 max_length: float, gravity: float, period: float, spring: float = 100.0,
+                 damping: float = 10.0) -> None:
+        self.platform = platform
+        self.offset = np.asarray(guide_way_offset, dtype=float)
+        self.mu, self.max_length, self.gravity = linear_density, max_length, gravity
+        self.spring, self.damping = spring, damping
+        self.period_ns = round(period * 1e9)
+        self.next_ns: int | None = None
+        self.value = np.zeros(3)
+        self._stretch: tuple[float, float] | None = None      # (t, stretch) of the last step
+
+    def force(self) -> np.ndarray:
+        """The line's force on the UAV (N, world) from the last step."""
+        return self.value
+
+    def update(self, frame: UavFrame) -> None:
+        """Recompute the force when the frame reached the next step time."""
+        t_ns = round(frame.t * 1e9)
+        if self.next_ns is not None and t_ns < self.next_ns:
+            return
+        self.next_ns = (t_ns // self.period_ns + 1) * self.period_ns
+        p = self.platform(frame.t)
+        anchor = p.position + self.offset
+        line = anchor - frame.position
+        length = float(np.linalg.norm(line))
+        direction = line / length if length > 0.0 else np.zeros(3)
+        magnitude = self.mu * length * self.gravity
+        stretch = max(length - self.max_length, 0.0)
+        if stretch > 0.0:
+            rate = 0.0 if self._stretch is None or frame.t <= self._stretch[0] else \
+                (stretch - self._stretch[1]) / (frame.t - self._stretch[0])
+            magnitude += self.spring * stretch + self.damping * rate
+        self._stretch = (frame.t, stretch)
+        self.value = direction * magnitude
+
+
 class PlantTether:
     """The plant's force on the UAV, the plant stepped every ``period`` s with the UAV prescribed."""
 
@@ -104,7 +163,7 @@ class JsonPhysicsServer:
     """UDP loop around :class:`JsonPhysics` (see the module docstring)."""
 
     def __init__(self, physics: JsonPhysics, port: int, host: str = '127.0.0.1',
-                 tether: PlantTether | HeldForce | None = None, log: Callable[[str], None] = print) -> None:
+                 tether: PlantTether | StraightTether | HeldForce | None = None, log: Callable[[str], None] = print) -> None:
         self.physics = physics
         self.tether = tether
         self.log = log
