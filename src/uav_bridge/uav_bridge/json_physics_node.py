@@ -129,7 +129,10 @@ class JsonPhysicsNode(Node):
         self.imu_pub.publish(imu)
 
     def destroy_node(self) -> None:
-        """Release the UDP port with the node."""
+        """Say what the frames were and release the UDP port with the node."""
+        c = self.physics.counts
+        self.get_logger().info(f'frames: {c.stepped} stepped to {self.physics.t:.3f} s, {c.resent} answered again, '
+                               f'{c.lost} lost, {c.restarts} SITL restarts, {c.rejected} datagrams rejected')
         self.server.close()
         super().destroy_node()
 
