@@ -13,6 +13,10 @@ position-hold error about the take-off point.
 
 from __future__ import annotations
 
+import socket
+import threading
+import time
+
 import numpy as np
 import pytest
 
@@ -57,7 +61,7 @@ def hold(tmp_path):
                            stream_rates={'ATTITUDE': 10.0, 'LOCAL_POSITION_NED': 10.0, 'HIGHRES_IMU': 10.0,
                                          'EKF_STATUS_REPORT': 2.0})
     try:
-        yield fly_and_hold(server, tether.force, sitl, config, HoldPlan(altitude=ALTITUDE, hold=HOLD),
+        yield fly_and_hold(server, sitl, config, HoldPlan(altitude=ALTITUDE, hold=HOLD),
                            log=logs.append), physics, logs
     finally:
         sitl.close()
@@ -91,3 +95,59 @@ def test_arducopter_takes_off_and_holds_station_on_the_tether(hold):
     assert abs(balance) < 0.01                          # within 1 % of weight plus tether pull
     assert horizontal.max() < 1.0 and np.abs(error[:, 2]).max() < 1.0
     assert not any('restarted' in line for line in logs)
+
+
+def test_a_sitl_restart_puts_the_uav_back_and_time_runs_on(tmp_path):
+    sitl = SitlProcess(tmp_path, speedup=50.0, model='JSON:127.0.0.1', parameters=JSON_PARAMETERS)
+    physics = JsonPhysics(JsonPhysicsConfig(start=tuple(START), frame_rate=FRAME_RATE))
+    logs: list[str] = []
+    server = JsonPhysicsServer(physics, physics_port(sitl.config.instance), log=logs.append)
+    stop = threading.Event()
+
+    def serve() -> None:
+        while not stop.is_set():
+            server.poll(0.1)
+
+    thread = threading.Thread(target=serve, daemon=True)
+    links = []
+    try:
+        thread.start()
+        sitl.start()
+        # SITL runs only once a MAVLink client is connected: a bare TCP connection will do
+        links.append(_connect(sitl.config.port))
+        _wait(lambda: physics.t > 3.0, 'SITL frames')
+        sitl.kill()
+        before, frames_before = physics.t, physics.counts.stepped
+        sitl.start(wipe=False)
+        links.append(_connect(sitl.config.port))
+        _wait(lambda: physics.t > before + 3.0, 'frames of the restarted SITL')
+        assert physics.counts.restarts == 1 and physics.counts.lost == 0 and physics.counts.rejected == 0
+        assert any('SITL restarted' in line for line in logs)
+        # one time axis through the restart: every frame stepped once, at the fixed rate
+        assert physics.t == pytest.approx(physics.counts.stepped / FRAME_RATE)
+        assert physics.counts.stepped > frames_before + 3 * FRAME_RATE
+    finally:
+        stop.set()
+        thread.join(5)
+        for link in links:
+            link.close()
+        sitl.close()
+        server.close()
+
+
+def _connect(port: int) -> socket.socket:
+    deadline = time.monotonic() + 60.0
+    while True:
+        try:
+            return socket.create_connection(('127.0.0.1', port), timeout=1.0)
+        except OSError:
+            if time.monotonic() > deadline:
+                raise
+            time.sleep(0.2)
+
+
+def _wait(predicate, what: str, timeout: float = 300.0) -> None:
+    deadline = time.monotonic() + timeout
+    while not predicate():
+        assert time.monotonic() < deadline, f'timed out waiting for {what}'
+        time.sleep(0.05)

@@ -74,7 +74,7 @@ def fly(model: str, args, binary: Path, workdir: Path):
                            command_timeout=120.0,
                            stream_rates={'ATTITUDE': 10.0, 'LOCAL_POSITION_NED': 10.0, 'EKF_STATUS_REPORT': 2.0})
     try:
-        return fly_and_hold(server, tether.force, sitl, config, HoldPlan(altitude=args.altitude, hold=args.hold),
+        return fly_and_hold(server, sitl, config, HoldPlan(altitude=args.altitude, hold=args.hold),
                             log=lambda line: None), physics
     finally:
         sitl.stop()

@@ -59,8 +59,8 @@ class HoldRecord:
 
 
 class _Recorder:
-    def __init__(self, server: JsonPhysicsServer, force: Callable[[], np.ndarray]) -> None:
-        self.server, self.force = server, force
+    def __init__(self, server: JsonPhysicsServer) -> None:
+        self.server = server
         self.lock = threading.Lock()
         self.rows: list[tuple] = []
         self.frame_counts: list[int] = []
@@ -74,18 +74,18 @@ class _Recorder:
                 for reply in self.server.poll(0.1):
                     if reply.kind == 'resend':
                         continue
-                    frame = self.server.physics.frame
+                    frame = reply.frame
                     with self.lock:
                         self.frame_counts.append(reply.packet.frame_count)
-                        self.rows.append((frame.t, *frame.position, frame.thrusts.sum(), *self.force()))
+                        self.rows.append((frame.t, *frame.position, frame.thrusts.sum(), *reply.force))
         except BaseException as error:      # noqa: BLE001 - reported by the flight's thread
             self.error = error
 
 
-def fly_and_hold(server: JsonPhysicsServer, force: Callable[[], np.ndarray], sitl: SitlRunner,
-                 session_config: SessionConfig, plan: HoldPlan, log: Callable[[str], None] = print) -> HoldRecord:
+def fly_and_hold(server: JsonPhysicsServer, sitl: SitlRunner, session_config: SessionConfig, plan: HoldPlan,
+                 log: Callable[[str], None] = print) -> HoldRecord:
     """Start SITL and the session, fly ``plan``, return the hold; SITL and the session are stopped after."""
-    recorder = _Recorder(server, force)
+    recorder = _Recorder(server)
     statuses: list = []
     poses: list = []
 

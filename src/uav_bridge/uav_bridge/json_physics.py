@@ -104,6 +104,8 @@ class Reply:
     kind: str                   # NEW, RESEND, GAP or RESTART
     packet: ServoPacket
     data: bytes
+    frame: UavFrame             # the UAV after the frame (unchanged by a resend)
+    force: np.ndarray           # N, world: the tether's force held over the frame
 
 
 class JsonPhysics:
@@ -156,7 +158,7 @@ class JsonPhysics:
             kind = NEW
         elif count == self._last[0]:
             self.counts.resent += 1
-            return Reply(RESEND, packet, self._last[1])
+            return Reply(RESEND, packet, self._last[1], self.frame, np.asarray(tether_force, dtype=float))
         elif count > self._last[0]:
             kind = GAP
             self.counts.lost += count - self._last[0] - 1
@@ -164,11 +166,12 @@ class JsonPhysics:
             kind = RESTART
             self.counts.restarts += 1
             self._reset_body()
-        self._step(packet, np.asarray(tether_force, dtype=float))
+        force = np.asarray(tether_force, dtype=float)
+        self._step(packet, force)
         reply = format_state(self.physics_state())
         self._last = (count, reply)
         self.counts.stepped += 1
-        return Reply(kind, packet, reply)
+        return Reply(kind, packet, reply, self.frame, force)
 
     def _step(self, packet: ServoPacket, force: np.ndarray) -> None:
         frame_ns = round(1e9 / (self.config.frame_rate or packet.frame_rate))

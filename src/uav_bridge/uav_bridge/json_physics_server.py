@@ -177,7 +177,9 @@ class JsonPhysicsServer:
         self.sock.close()
 
     def poll(self, timeout: float) -> list[Reply]:
-        """Wait up to ``timeout`` s for servo packets, answer them; the replies sent."""
+        """Wait up to ``timeout`` s for servo packets and answer them; every datagram's reply, in order
+        (only the last one is sent).
+        """
         readable, _, _ = select.select([self.sock], [], [], timeout)
         if not readable:
             return []
@@ -193,7 +195,7 @@ class JsonPhysicsServer:
             return []
         reply, address = answered[-1]
         self.sock.sendto(reply.data, address)
-        return [reply]
+        return [reply for reply, _ in answered]
 
     def _answer(self, data: bytes, address: tuple) -> Reply | None:
         force = self.tether.force() if self.tether is not None else np.zeros(3)
