@@ -28,7 +28,7 @@ def test_force_and_estimate_error_over_the_hold(tmp_path):
                         ('/autopilot/pose', 'geometry_msgs/msg/PoseStamped'),
                         ('/mission/state', 'tether_msgs/msg/MissionState')]:
         writer.add_topic(topic, kind, [QosRecord()])
-    for k in range(1, 201):                         # 2 s at 100 Hz; hold from 1 s: 3 N down, 4 N sideways
+    for k in range(1, 1001):                        # 10 s at 100 Hz; at the station from 1 s: window from 6 s
         t = 0.01 * k
         wrench = _stamped(WrenchStamped(), t)
         wrench.wrench.force.x, wrench.wrench.force.z = (-4.0, -3.0) if t >= 1.0 else (-40.0, 10.0)
@@ -42,11 +42,11 @@ def test_force_and_estimate_error_over_the_hold(tmp_path):
             writer.write('/autopilot/pose', serialize_message(estimate), round(t * 1e9))
     for t, phase in [(0.5, 'climb'), (1.0, 'hold')]:
         state = _stamped(MissionState(), t)
-        state.phase = phase
+        state.phase, state.station.z = phase, 30.0
         writer.write('/mission/state', serialize_message(state), round(t * 1e9))
     writer.close()
     lines = tether_flight_report(str(tmp_path / 'bag'), str(tmp_path / 'out'))
-    assert lines[0] == ('tether on the UAV (hold, 101 samples): 3.00 N down, 4.00 N sideways (mean), '
+    assert lines[0] == ('tether on the UAV (hold, 401 samples): 3.00 N down, 4.00 N sideways (mean), '
                         '|F| 5.00 N mean, 0.00 N peak-to-peak')
     assert lines[1].startswith('autopilot estimate (/autopilot/pose) against the true UAV: mean 0.200 m, max 0.200 m')
     assert (tmp_path / 'out' / 'uav_tether_force.png').stat().st_size > 1000

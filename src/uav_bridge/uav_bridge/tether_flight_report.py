@@ -2,7 +2,8 @@
 
 Reads ``/tether/uav_wrench`` (the plant's force on the UAV, world), ``/uav/pose`` (the true
 UAV), ``/autopilot/pose`` (the autopilot's estimate, when the bridge publishes there) and
-``/mission/state``. Over the mission's hold phase it gives the force's mean downward and
+``/mission/state``. Over the flight report's station-keeping window
+(:func:`uav_bridge.report.hold_interval`) it gives the force's mean downward and
 sideways pull and its peak-to-peak magnitude, the hover load the rotors must carry on top of
 the weight, and how far the autopilot's estimate lies from the true position. Plots
 ``uav_tether_force.png``.
@@ -20,6 +21,7 @@ import numpy as np  # noqa: E402
 
 from tether_bringup.bag_reader import read_bag  # noqa: E402
 from uav_bridge.report import hold_interval  # noqa: E402
+from uav_bridge.report import read_flight  # noqa: E402
 
 
 def _stamp(header) -> float:
@@ -42,14 +44,13 @@ def tether_flight_report(bag_path: str, out_dir: str) -> list[str]:
     force = _series(bag, '/tether/uav_wrench', lambda m: (m.wrench.force.x, m.wrench.force.y, m.wrench.force.z))
     if force.shape[0] == 0:
         return ['tether on the UAV: no /tether/uav_wrench in the bag']
-    truth = _series(bag, '/uav/pose', lambda m: (m.pose.position.x, m.pose.position.y, m.pose.position.z))
+    flight = read_flight(Path(bag_path))
+    truth = flight['poses']
     estimate = _series(bag, '/autopilot/pose', lambda m: (m.pose.position.x, m.pose.position.y, m.pose.position.z))
-    phases = [(_stamp(m.header), m.phase, m.reason, None) for _, m in bag.decoded('/mission/state')] \
-        if '/mission/state' in bag.topics else []
-    interval = hold_interval(phases)
+    interval = hold_interval(flight['phases'], truth) if truth.shape[0] else None
     lines = []
     if interval is None:
-        lines.append('tether on the UAV: the mission never reached its hold phase')
+        lines.append('tether on the UAV: the UAV never held station; the whole run follows')
         inside = np.ones(force.shape[0], dtype=bool)
     else:
         inside = (force[:, 0] >= interval[0]) & (force[:, 0] < interval[1])
