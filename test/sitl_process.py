@@ -62,6 +62,22 @@ def _udp_port_free(port: int) -> bool:
     return True
 
 
+def claim_instance() -> tuple[int, object]:
+    """A free SITL instance (its TCP ports and JSON physics port free) and the lock file holding it."""
+    for instance in range(1, 60):
+        handle = open(f'/tmp/tethersim-sitl-instance-{instance}.lock', 'w')   # noqa: SIM115 - held open
+        try:
+            fcntl.flock(handle, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        except OSError:
+            handle.close()
+            continue
+        base = 5760 + 10 * instance
+        if all(_port_free(port) for port in (base, base + 2, base + 3)) and _udp_port_free(physics_port(instance)):
+            return instance, handle
+        handle.close()
+    raise RuntimeError('no free SITL instance (ports 5770-6350 busy)')
+
+
 class SitlProcess(SitlRunner):
     """A SITL runner on a free instance, released by :meth:`close`."""
 
@@ -74,19 +90,8 @@ class SitlProcess(SitlRunner):
                                     parameters=parameters))
 
     def _claim_instance(self) -> int:
-        for instance in range(1, 60):
-            handle = open(f'/tmp/tethersim-sitl-instance-{instance}.lock', 'w')   # noqa: SIM115 - held open
-            try:
-                fcntl.flock(handle, fcntl.LOCK_EX | fcntl.LOCK_NB)
-            except OSError:
-                handle.close()
-                continue
-            base = 5760 + 10 * instance
-            if all(_port_free(port) for port in (base, base + 2, base + 3)) and _udp_port_free(physics_port(instance)):
-                self._lock_file = handle
-                return instance
-            handle.close()
-        raise RuntimeError('no free SITL instance (ports 5770-6350 busy)')
+        instance, self._lock_file = claim_instance()
+        return instance
 
     def url(self) -> str:
         """The bridge's URL for this instance."""

@@ -12,7 +12,7 @@ rclpy = pytest.importorskip('rclpy')
 from rosgraph_msgs.msg import Clock  # noqa: E402
 
 from json_sitl_peer_double import SitlJsonPeerDouble  # noqa: E402
-from sitl_process import _udp_port_free  # noqa: E402
+from sitl_process import claim_instance  # noqa: E402
 from tether_common.constants import GRAVITY  # noqa: E402
 from tether_common.qos import CLOCK  # noqa: E402
 from test_uav_bridge_node import Probe  # noqa: E402
@@ -22,13 +22,6 @@ from test_uav_mission_node import _start  # noqa: E402
 from uav_bridge.sitl_json import physics_port  # noqa: E402
 
 FRAME_RATE = 800
-
-
-def _free_instance() -> int:
-    for instance in range(59, 30, -1):
-        if _udp_port_free(physics_port(instance)):
-            return instance
-    raise RuntimeError('no free JSON physics port')
 
 
 class SitlThread:
@@ -54,7 +47,7 @@ class SitlThread:
 
 
 def test_sitl_advances_only_with_the_graph_clock(ros_domain):  # noqa: F811
-    instance = _free_instance()
+    instance, lock = claim_instance()
     process = _start('uav_bridge.json_physics_node', f'instance:={instance}', 'wrench_rate:=0.0',
                      'start:=[1.0, 2.0, 0.5]', domain=ros_domain)
     probe = Probe()
@@ -80,8 +73,9 @@ def test_sitl_advances_only_with_the_graph_clock(ros_domain):  # noqa: F811
         # SITL stopped where the clock stopped (a reply that raced a resend may count once more in SITL)
         assert 0.5 * FRAME_RATE <= sitl.peer.frame_count <= 0.5 * FRAME_RATE + sitl.peer.log.repeated
         assert sitl.peer.log.clock == pytest.approx(0.5)        # and its clock is the graph's sim time
-        stamps = [msg.header.stamp.nanosec for msg in probe.got['pose']]
-        assert stamps == [10_000_000 * k for k in range(1, 51)]            # one pose per tick, none lost
+        stamps = [msg.header.stamp.nanosec for msg in probe.got['pose']]       # sensor QoS: some may drop
+        assert stamps[-1] == 500_000_000 and all(s % 10_000_000 == 0 for s in stamps)
+        assert all(b > a for a, b in zip(stamps, stamps[1:]))                 # one pose per tick, in order
         imu = probe.got['imu'][-1]
         assert imu.header.frame_id == 'uav' and imu.linear_acceleration.z == pytest.approx(GRAVITY)   # FLU, at rest
         pose = probe.got['pose'][-1].pose.position
@@ -94,5 +88,6 @@ def test_sitl_advances_only_with_the_graph_clock(ros_domain):  # noqa: F811
         probe.close()
         process.send_signal(signal.SIGINT)
         _, err = process.communicate(timeout=20)
+        lock.close()
         print(err[-3000:])
     assert process.returncode == 0 and 'Traceback' not in err, err
