@@ -13,6 +13,9 @@ from tether_dynamics.plant import bodies
 from uav_bridge import frames
 from uav_bridge.json_physics import JsonPhysics
 from uav_bridge.json_physics import JsonPhysicsConfig
+from uav_bridge.json_physics import UavFrame
+from uav_bridge.json_physics_server import StraightTether
+from uav_bridge.json_physics_server import heaving_platform
 from uav_bridge.quad_motors import QuadXConfig
 from uav_bridge.quad_motors import QuadXMotors
 from uav_bridge.sitl_json import MAGIC_16
@@ -179,3 +182,19 @@ def test_reply_keys_are_written_for_sitls_substring_parser():
     for key in ('"timestamp":', '"gyro":[', '"accel_body":[', '"position":[', '"velocity":[', '"attitude":[',
                 '"quaternion":['):
         assert data.count(key) == 1, key
+
+
+def test_straight_tether_is_sim_tethers_line_weight_and_penalty_spring():
+    platform = heaving_platform(1.0, 8.0)
+    assert platform(2.0).position == pytest.approx([0.0, 0.0, 1.0]) and platform(2.0).velocity == pytest.approx(
+        [0.0, 0.0, 0.0], abs=1e-12)
+    tether = StraightTether(platform, (0.0, 0.0, 0.5), 0.042, 40.0, G, period=0.01)
+    frame = UavFrame(0.0, np.array([15.0, 0.0, 30.5]), np.zeros(3), np.zeros(3), np.array([0.0, 0.0, 0.0, 1.0]),
+                     np.zeros(3), np.array([0.0, 0.0, G]), np.zeros(4), False)
+    tether.update(frame)                                         # t = 0: guide way at (0, 0, 0.5)
+    chord = np.array([-15.0, 0.0, -30.0])
+    length = np.linalg.norm(chord)
+    assert tether.force() == pytest.approx(chord / length * 0.042 * length * G)
+    short = StraightTether(platform, (0.0, 0.0, 0.5), 0.042, 30.0, G, period=0.01)
+    short.update(frame)                                  # 3.54 m beyond the full length: the spring pulls
+    assert np.linalg.norm(short.force()) == pytest.approx(0.042 * length * G + 100.0 * (length - 30.0))
