@@ -29,10 +29,18 @@ METHOD_ALE, METHOD_LAST, METHOD_UNIFORM, METHOD_INSERT = range(4)
 METHODS = {'ale': METHOD_ALE, 'last_element': METHOD_LAST, 'uniform': METHOD_UNIFORM, 'insert': METHOD_INSERT}
 SPLIT = 1.5
 MERGE = 0.25
+# Quadratic elements split at 1.6 h and merge below h / 2: the short reel element's middle
+# node (2/3 of its mass) sets the stable step, so it is kept twice as long as a linear one's.
+SPLIT_QUADRATIC = 1.6
+MERGE_QUADRATIC = 0.5
+# The 2-point Gauss points of a quadratic element (Appendix D.3).
+GAUSS = np.array([-1.0 / np.sqrt(3.0), 1.0 / np.sqrt(3.0)])
 
-# st (int64): nodes in use, method, torque input, dynamic UAV, drag on, wind on, kv on, splits, merges, status.
-(ST_NODES, ST_METHOD, ST_TORQUE, ST_BODY, ST_DRAG, ST_WIND, ST_KV, ST_SPLITS, ST_MERGES, ST_STATUS) = range(10)
-ST_SIZE = 10
+# st (int64): nodes in use, method, torque input, dynamic UAV, drag on, wind on, kv on, splits, merges, status,
+# element order (1 linear, 2 quadratic).
+(ST_NODES, ST_METHOD, ST_TORQUE, ST_BODY, ST_DRAG, ST_WIND, ST_KV, ST_SPLITS, ST_MERGES, ST_STATUS,
+ ST_ORDER) = range(11)
+ST_SIZE = 11
 STATUS_OK, STATUS_FULL, STATUS_NONFINITE, STATUS_SHORT = 0, 1, 2, 3
 # fp (float64): EA, mu, h, g, diameter, Cd normal, Cd tangential, air density, Kelvin-Voigt c,
 # wind (3), reel command, thrust, pending length ('insert'), UAV mass, the last step's feed rate
@@ -70,6 +78,21 @@ def _hermite(tab, t_a, t_b, t, pos, vel):
 
 
 @njit(cache=True)
+def _set_ends(x, v, n, body_on, bs, rho, g_tab, u_tab, t_a, t_b, t, p0, v0, pf, vf):
+    """Put the guide way (node 0) and the UAV attachment point (node n - 1) where they are at t:
+    the guide way on its Hermite segment, the UAV end on the body or on its Hermite segment.
+    """
+    _hermite(g_tab, t_a, t_b, t, p0, v0)
+    if body_on:
+        body_attach(bs, rho, pf, vf)
+    else:
+        _hermite(u_tab, t_a, t_b, t, pf, vf)
+    for c in range(3):
+        x[0, c], v[0, c] = p0[c], v0[c]
+        x[n - 1, c], v[n - 1, c] = pf[c], vf[c]
+
+
+@njit(cache=True)
 def element_tensions(x, v, rest, n, fp, kv_on, u0, out):
     """Tension of each element (elastic + Kelvin-Voigt, zero when slack) into out[:n - 1];
     element 0's strain rate uses the material velocity u0 at the guide way.
@@ -94,23 +117,6 @@ def element_tensions(x, v, rest, n, fp, kv_on, u0, out):
             if t < 0.0:
                 t = 0.0
         out[e] = t
-
-
-@njit(cache=True)
-def end_forces(x, rest, n, tens, fp, force_reel, force_uav):
-    """Forces of the tether on the guide way (the exit tension along the reel element) and on the
-    UAV attachment point (the last element's tension plus the weight of the last node's lump,
-    half the last element, which hangs on the UAV).
-    """
-    e_last = n - 2
-    t_exit = exit_tension(x, rest, tens, fp)
-    d0 = np.sqrt((x[1, 0] - x[0, 0]) ** 2 + (x[1, 1] - x[0, 1]) ** 2 + (x[1, 2] - x[0, 2]) ** 2)
-    dl = np.sqrt((x[n - 1, 0] - x[e_last, 0]) ** 2 + (x[n - 1, 1] - x[e_last, 1]) ** 2
-                 + (x[n - 1, 2] - x[e_last, 2]) ** 2)
-    for c in range(3):
-        force_reel[c] = t_exit * (x[1, c] - x[0, c]) / d0 if d0 > 0.0 else 0.0
-        force_uav[c] = -tens[e_last] * (x[n - 1, c] - x[e_last, c]) / dl if dl > 0.0 else 0.0
-    force_uav[2] -= 0.5 * fp[FP_MU] * fp[FP_G] * rest[e_last]
 
 
 @njit(cache=True)
@@ -142,24 +148,61 @@ def _drag(x, v, n, fp, wind_on, f):
 
 
 @njit(cache=True)
-def energy(x, v, rest, n, fp):
+def lump(rest, n, order, mu, i):
+    """Lumped mass of node i (kg): half of each adjacent linear element; of a quadratic element
+    (row sums of its consistent mass matrix, Eq. D.12) 1/6 at each end node and 2/3 at the
+    middle node.
+    """
+    if order == 1:
+        return 0.5 * mu * ((rest[i - 1] if i > 0 else 0.0) + (rest[i] if i < n - 1 else 0.0))
+    if i % 2 == 1:
+        return 2.0 / 3.0 * mu * rest[(i - 1) // 2]
+    e = i // 2
+    return mu / 6.0 * ((rest[e - 1] if e > 0 else 0.0) + (rest[e] if e < (n - 1) // 2 else 0.0))
+
+
+@njit(cache=True)
+def _gauss_stretch(x, rest, e, gi, r):
+    """Tangent r = dr/ds (s the rest-length coordinate; |r| is the stretch) at Gauss point gi
+    of quadratic element e, into r.
+    """
+    z = GAUSS[gi]
+    k = 2.0 / rest[e]
+    a, b, c = (z - 0.5) * k, -2.0 * z * k, (z + 0.5) * k
+    j = 2 * e
+    for d in range(3):
+        r[d] = a * x[j, d] + b * x[j + 1, d] + c * x[j + 2, d]
+
+
+@njit(cache=True)
+def energy(x, v, rest, n, fp, order):
     """Mechanical energy of the deployed tether as the balance counts it (J): kinetic energy
-    of the free nodes' lumps, strain energy, and the gravitational energy of every element
-    (exact for the linear field: mu l g (z_a + z_b) / 2).
+    of the free nodes' lumps, strain energy (the quadratic element's by 2-point Gauss, as its
+    forces), and the gravitational energy of the lumps (every lump, the end ones included).
     """
     mu, ea, g = fp[FP_MU], fp[FP_EA], fp[FP_G]
     e_sum = 0.0
-    for e in range(n - 1):
-        d0 = x[e + 1, 0] - x[e, 0]
-        d1 = x[e + 1, 1] - x[e, 1]
-        d2 = x[e + 1, 2] - x[e, 2]
-        eps = np.sqrt(d0 * d0 + d1 * d1 + d2 * d2) / rest[e] - 1.0
-        if eps > 0.0:
-            e_sum += 0.5 * ea * rest[e] * eps * eps
-        e_sum += mu * rest[e] * g * 0.5 * (x[e, 2] + x[e + 1, 2])
-    for i in range(1, n - 1):
-        m = 0.5 * mu * (rest[i - 1] + rest[i])
-        e_sum += 0.5 * m * (v[i, 0] ** 2 + v[i, 1] ** 2 + v[i, 2] ** 2)
+    if order == 1:
+        for e in range(n - 1):
+            d0 = x[e + 1, 0] - x[e, 0]
+            d1 = x[e + 1, 1] - x[e, 1]
+            d2 = x[e + 1, 2] - x[e, 2]
+            eps = np.sqrt(d0 * d0 + d1 * d1 + d2 * d2) / rest[e] - 1.0
+            if eps > 0.0:
+                e_sum += 0.5 * ea * rest[e] * eps * eps
+    else:
+        r = np.empty(3)
+        for e in range((n - 1) // 2):
+            for gi in range(2):
+                _gauss_stretch(x, rest, e, gi, r)
+                eps = np.sqrt(r[0] * r[0] + r[1] * r[1] + r[2] * r[2]) - 1.0
+                if eps > 0.0:
+                    e_sum += 0.25 * ea * rest[e] * eps * eps
+    for i in range(n):
+        m = lump(rest, n, order, mu, i)
+        e_sum += m * g * x[i, 2]
+        if 0 < i < n - 1:
+            e_sum += 0.5 * m * (v[i, 0] ** 2 + v[i, 1] ** 2 + v[i, 2] ** 2)
     return e_sum
 
 
@@ -276,56 +319,211 @@ def _merge(x, v, rest, st, fp, u0_old, v0, payout, keep_strain):
 
 
 @njit(cache=True)
+def guide_tangent(x, rest, order, out):
+    """dr/ds at the guide way (s the rest-length coordinate; its length is the stretch):
+    (x1 - x0) / l0 on a linear reel element, (-3 x0 + 4 x1 - x2) / l0 on a quadratic one.
+    """
+    for c in range(3):
+        if order == 1:
+            out[c] = (x[1, c] - x[0, c]) / rest[0]
+        else:
+            out[c] = (-3.0 * x[0, c] + 4.0 * x[1, c] - x[2, c]) / rest[0]
+
+
+@njit(cache=True)
+def quadratic_forces(x, v, rest, n, fp, kv_on, u0, tens, tkv, f):
+    """Quadratic elements, 2-point Gauss (Eq. D.8-D.10): the tension at each Gauss point into
+    tens[2 e + g] (its Kelvin-Voigt part into tkv), the elastic and damping forces added into
+    f, f_k -= T_g e_g dS_k/dzeta. Element 0's strain rate uses the material velocity u0 at the
+    guide way.
+    """
+    ea, c_kv = fp[FP_EA], fp[FP_KV]
+    r = np.empty(3)
+    for e in range((n - 1) // 2):
+        j = 2 * e
+        k = 2.0 / rest[e]
+        for gi in range(2):
+            z = GAUSS[gi]
+            sa, sb, sc = z - 0.5, -2.0 * z, z + 0.5
+            _gauss_stretch(x, rest, e, gi, r)
+            lam = np.sqrt(r[0] * r[0] + r[1] * r[1] + r[2] * r[2])
+            p = 2 * e + gi
+            tkv[p] = 0.0
+            if lam <= 1.0:
+                tens[p] = 0.0
+                continue
+            t = ea * (lam - 1.0)
+            if kv_on:
+                rate = 0.0
+                for c in range(3):
+                    va = u0[c] if e == 0 else v[j, c]
+                    rate += r[c] * k * (sa * va + sb * v[j + 1, c] + sc * v[j + 2, c])
+                tkv[p] = c_kv * rate / lam
+                t += tkv[p]
+                if t < 0.0:
+                    tkv[p] -= t
+                    t = 0.0
+            tens[p] = t
+            for c in range(3):
+                fc = t * r[c] / lam
+                f[j, c] -= fc * sa
+                f[j + 1, c] -= fc * sb
+                f[j + 2, c] -= fc * sc
+
+
+@njit(cache=True)
+def quadratic_exit_tension(x, v, rest, fp, kv_on, u0):
+    """Tension of the quadratic reel element at the guide way (zeta = -1), N: EA (|r'| - 1) plus
+    the Kelvin-Voigt term with the material velocity u0 there; zero when slack.
+    """
+    k = 1.0 / rest[0]
+    lam2, rate = 0.0, 0.0
+    for c in range(3):
+        rc = (-3.0 * x[0, c] + 4.0 * x[1, c] - x[2, c]) * k
+        lam2 += rc * rc
+        rate += rc * (-3.0 * u0[c] + 4.0 * v[1, c] - v[2, c]) * k
+    lam = np.sqrt(lam2)
+    if lam <= 1.0:
+        return 0.0
+    t = fp[FP_EA] * (lam - 1.0)
+    if kv_on:
+        t += fp[FP_KV] * rate / lam
+    return t if t > 0.0 else 0.0
+
+
+@njit(cache=True)
+def _quadratic_at(xa, xb, xc, z, out):
+    """The quadratic field through xa, xb, xc (zeta = -1, 0, 1) at zeta."""
+    sa, sb, sc = 0.5 * (z * z - z), 1.0 - z * z, 0.5 * (z * z + z)
+    for c in range(3):
+        out[c] = sa * xa[c] + sb * xb[c] + sc * xc[c]
+
+
+@njit(cache=True)
+def _split_quadratic(x, v, rest, st, fp, u0):
+    """Cut the quadratic reel element at rest length l_a = l_0 - h from the guide way by exact
+    subdivision: the two new elements are the old element's parabola (positions, and velocities
+    with the material velocity u0 at the guide way) restricted to [-1, zeta_c] and [zeta_c, 1].
+    Shape, strain field and exit tension are unchanged, and so is the momentum: Simpson's rule
+    (the lumps 1/6, 2/3, 1/6) integrates the quadratic velocity field exactly on each piece.
+    """
+    n = st[ST_NODES]
+    if n + 2 > x.shape[0]:
+        st[ST_STATUS] = STATUS_FULL
+        return
+    l0 = rest[0]
+    la = l0 - fp[FP_H]
+    zc = 2.0 * la / l0 - 1.0
+    xa, xb, xc = x[0].copy(), x[1].copy(), x[2].copy()
+    va, vb, vc = u0.copy(), v[1].copy(), v[2].copy()
+    for i in range(n - 1, 1, -1):
+        x[i + 2] = x[i]
+        v[i + 2] = v[i]
+    for e in range((n - 1) // 2 - 1, 0, -1):
+        rest[e + 1] = rest[e]
+    for node, z in ((1, 0.5 * (zc - 1.0)), (2, zc), (3, 0.5 * (zc + 1.0))):
+        _quadratic_at(xa, xb, xc, z, x[node])
+        _quadratic_at(va, vb, vc, z, v[node])
+    rest[0] = la
+    rest[1] = fp[FP_H]
+    st[ST_NODES] = n + 2
+    st[ST_SPLITS] += 1
+
+
+@njit(cache=True)
+def _merge_quadratic(x, v, rest, st, fp, u0):
+    """Join the quadratic reel element (l_0 < MERGE_QUADRATIC h) to its neighbour. The joined element's
+    middle node is placed so the tangent dr/ds at the guide way - the exit direction and the
+    exit strain - is the old one (x_m = (L r'(0) + 3 x_0 + x_4) / 4): the exit tension keeps
+    its elastic part, the material velocity at the guide way is unchanged, and a tether whose
+    shape is one parabola over both elements (a vertical hang) is reproduced exactly. The
+    middle node's velocity keeps the momentum of the lumps involved; mass is exact (L = l_0 + l_1).
+    """
+    n = st[ST_NODES]
+    l0, l1 = rest[0], rest[1]
+    big = l0 + l1
+    w4 = l1 / 6.0
+    p = np.empty(3)
+    for c in range(3):
+        p[c] = (l0 / 6.0 * u0[c] + 2.0 / 3.0 * l0 * v[1, c] + (l0 + l1) / 6.0 * v[2, c]
+                + 2.0 / 3.0 * l1 * v[3, c] + w4 * v[4, c])
+    for c in range(3):
+        tangent = (-3.0 * x[0, c] + 4.0 * x[1, c] - x[2, c]) / l0
+        x[1, c] = 0.25 * (big * tangent + 3.0 * x[0, c] + x[4, c])
+        v[1, c] = (p[c] - big / 6.0 * u0[c] - big / 6.0 * v[4, c]) / (2.0 / 3.0 * big)
+    for i in range(2, n - 2):
+        x[i] = x[i + 2]
+        v[i] = v[i + 2]
+    rest[0] = big
+    for e in range(1, (n - 1) // 2 - 1):
+        rest[e] = rest[e + 1]
+    st[ST_NODES] = n - 2
+    st[ST_MERGES] += 1
+
+
+@njit(cache=True)
 def advance(x, v, rest, st, fp, rs, rp, g_tab, u_tab, t_a, t_b, n_sub, bs, inertia, inertia_inv, rho, torque, acc):
     """Advance the tether, the winch and (if dynamic) the UAV from t_a to t_b in n_sub steps."""
     dt = (t_b - t_a) / n_sub
     method = st[ST_METHOD]
-    mu, h, g = fp[FP_MU], fp[FP_H], fp[FP_G]
+    order = st[ST_ORDER]
+    kv_on = st[ST_KV] == 1
+    mu, h, g, ea = fp[FP_MU], fp[FP_H], fp[FP_G], fp[FP_EA]
     cap = x.shape[0]
     f = np.zeros((cap, 3))
     drag = np.zeros((cap, 3))
     tens = np.zeros(cap)
-    p0, v0, pf, vf, u0 = np.empty(3), np.empty(3), np.empty(3), np.empty(3), np.empty(3)
+    tkv = np.zeros(cap)
+    r, mesh = np.empty(3), np.zeros(3)
+    p0, v0, pf, vf, u0, tan = np.empty(3), np.empty(3), np.empty(3), np.empty(3), np.empty(3), np.empty(3)
     force_uav = np.empty(3)
-    force_reel = np.empty(3)
     payout = rp[RP_RADIUS] * rs[RS_RATE]
     feed = payout
     for k in range(n_sub):
         t = t_a + k * dt
         n = st[ST_NODES]
-        _hermite(g_tab, t_a, t_b, t, p0, v0)
-        if st[ST_BODY] == 1:
-            body_attach(bs, rho, pf, vf)
-        else:
-            _hermite(u_tab, t_a, t_b, t, pf, vf)
-        for c in range(3):
-            x[0, c], v[0, c] = p0[c], v0[c]
-            x[n - 1, c], v[n - 1, c] = pf[c], vf[c]
+        n_el = (n - 1) // order
+        _set_ends(x, v, n, st[ST_BODY] == 1, bs, rho, g_tab, u_tab, t_a, t_b, t, p0, v0, pf, vf)
         # Material velocity at the guide way: the guide way's plus the payout along the reel element.
-        d0 = np.sqrt((x[1, 0] - x[0, 0]) ** 2 + (x[1, 1] - x[0, 1]) ** 2 + (x[1, 2] - x[0, 2]) ** 2)
+        guide_tangent(x, rest, order, tan)
         for c in range(3):
             u0[c] = v0[c]
             if method == METHOD_ALE:
-                u0[c] += feed * (x[1, c] - x[0, c]) / rest[0]
-        element_tensions(x, v, rest, n, fp, st[ST_KV] == 1, u0, tens)
-        t_exit = exit_tension(x, rest, tens, fp)
+                u0[c] += feed * tan[c]
+        f[:n] = 0.0
+        if order == 1:
+            element_tensions(x, v, rest, n, fp, kv_on, u0, tens)
+            t_exit = exit_tension(x, rest, tens, fp)
+            for e in range(n - 1):
+                if tens[e] == 0.0:
+                    continue
+                d = np.sqrt((x[e + 1, 0] - x[e, 0]) ** 2 + (x[e + 1, 1] - x[e, 1]) ** 2
+                            + (x[e + 1, 2] - x[e, 2]) ** 2)
+                q = tens[e] / d
+                for c in range(3):
+                    fc = q * (x[e + 1, c] - x[e, c])
+                    f[e, c] += fc
+                    f[e + 1, c] -= fc
+        else:
+            quadratic_forces(x, v, rest, n, fp, kv_on, u0, tens, tkv, f)
+            t_exit = quadratic_exit_tension(x, v, rest, fp, kv_on, u0)
         if np.isfinite(acc[ACC_LAST_T]) and abs(t_exit - acc[ACC_LAST_T]) > acc[ACC_JUMP]:
             acc[ACC_JUMP] = abs(t_exit - acc[ACC_LAST_T])
             acc[ACC_JUMP_T] = t
         acc[ACC_LAST_T] = t_exit
+        # Energy flows of this step (evaluated at its start, as the forces are): the tether's
+        # forces on the moving ends, and the gravitational energy of the kinematic end lumps
+        # (they are part of the counted potential energy).
+        m_first, m_last = lump(rest, n, order, mu, 0), lump(rest, n, order, mu, n - 1)
+        p_ends = g * (m_first * v0[2] + m_last * vf[2])
+        for c in range(3):
+            p_ends -= f[0, c] * v0[c] + f[n - 1, c] * vf[c]
+            force_uav[c] = f[n - 1, c]
+        force_uav[2] -= m_last * g
+        acc[ACC_ENDS] += dt * p_ends
+        acc[ACC_THROUGHPUT] += dt * abs(p_ends)
         for i in range(n):
-            f[i, 0] = 0.0
-            f[i, 1] = 0.0
-            f[i, 2] = -0.5 * mu * (rest[i - 1] if i > 0 else 0.0) * g - 0.5 * mu * (rest[i] if i < n - 1 else 0.0) * g
-        for e in range(n - 1):
-            if tens[e] == 0.0:
-                continue
-            d = np.sqrt((x[e + 1, 0] - x[e, 0]) ** 2 + (x[e + 1, 1] - x[e, 1]) ** 2 + (x[e + 1, 2] - x[e, 2]) ** 2)
-            q = tens[e] / d
-            for c in range(3):
-                fc = q * (x[e + 1, c] - x[e, c])
-                f[e, c] += fc
-                f[e + 1, c] -= fc
+            f[i, 2] -= lump(rest, n, order, mu, i) * g
         if st[ST_DRAG] == 1:
             drag[:n] = 0.0
             _drag(x, v, n, fp, st[ST_WIND] == 1, drag)
@@ -336,19 +534,6 @@ def advance(x, v, rest, st, fp, rs, rp, g_tab, u_tab, t_a, t_b, n_sub, bs, inert
                     p_drag += drag[i, c] * v[i, c]
             acc[ACC_DRAG] += dt * p_drag
             acc[ACC_THROUGHPUT] += dt * abs(p_drag)
-        # Energy flows of this step (evaluated at its start, as the forces are).
-        e_last = n - 2
-        dl = np.sqrt((x[n - 1, 0] - x[e_last, 0]) ** 2 + (x[n - 1, 1] - x[e_last, 1]) ** 2
-                     + (x[n - 1, 2] - x[e_last, 2]) ** 2)
-        p_ends = 0.0
-        for c in range(3):
-            if d0 > 0.0:
-                p_ends -= tens[0] * (x[1, c] - x[0, c]) / d0 * v0[c]
-            if dl > 0.0:
-                p_ends += tens[e_last] * (x[n - 1, c] - x[e_last, c]) / dl * vf[c]
-        acc[ACC_ENDS] += dt * p_ends
-        acc[ACC_THROUGHPUT] += dt * abs(p_ends)
-        end_forces(x, rest, n, tens, fp, force_reel, force_uav)
         # Winch and UAV body.
         command = fp[FP_COMMAND]
         if st[ST_TORQUE] == 0:
@@ -361,20 +546,23 @@ def advance(x, v, rest, st, fp, rs, rp, g_tab, u_tab, t_a, t_b, n_sub, bs, inert
         fp[FP_PAYOUT] = feed
         if st[ST_BODY] == 1:
             body_step(bs, fp[FP_UAV_MASS], inertia, inertia_inv, rho, fp[FP_THRUST], torque, force_uav, g, dt)
-        # Rest-length rates of each element and the resulting mass rates of the free nodes.
-        n_el = n - 1
+        # Mass rates of the free nodes from the reel element's rest-length rate (its lumps'
+        # shares), with the inflowing material's momentum ('ale').
         for i in range(1, n - 1):
-            m = 0.5 * mu * (rest[i - 1] + rest[i])
+            m = lump(rest, n, order, mu, i)
             if method == METHOD_UNIFORM:
                 mdot = mu * feed / n_el
-            elif (method == METHOD_ALE or method == METHOD_LAST) and i == 1:
-                mdot = 0.5 * mu * feed
+            elif method == METHOD_ALE or method == METHOD_LAST:
+                if order == 1:
+                    mdot = 0.5 * mu * feed if i == 1 else 0.0
+                else:
+                    mdot = 2.0 / 3.0 * mu * feed if i == 1 else (mu * feed / 6.0 if i == 2 else 0.0)
             else:
                 mdot = 0.0
             p_mass = 0.5 * mdot * (v[i, 0] ** 2 + v[i, 1] ** 2 + v[i, 2] ** 2)
             for c in range(3):
                 a = f[i, c] / m
-                if method == METHOD_ALE and i == 1:
+                if method == METHOD_ALE and mdot != 0.0:
                     flux = mdot * (u0[c] - v[i, c])
                     a += flux / m
                     p_mass += flux * v[i, c]
@@ -383,45 +571,81 @@ def advance(x, v, rest, st, fp, rs, rp, g_tab, u_tab, t_a, t_b, n_sub, bs, inert
                     fp[FP_ACC1 + c] = a
             acc[ACC_MASS] += dt * p_mass
             acc[ACC_THROUGHPUT] += dt * abs(p_mass)
-        # Elastic energy released by the rest-length change, and the gravitational energy of
-        # the kinematic end lumps (they are part of the counted potential energy).
+        # Elastic and gravitational energy released by the rest-length change at fixed nodes.
         p_rest = 0.0
-        for e in range(n_el):
-            if method == METHOD_UNIFORM:
-                ldot = feed / n_el
-            elif (method == METHOD_ALE or method == METHOD_LAST) and e == 0:
-                ldot = feed
-            else:
-                continue
-            length = np.sqrt((x[e + 1, 0] - x[e, 0]) ** 2 + (x[e + 1, 1] - x[e, 1]) ** 2
-                             + (x[e + 1, 2] - x[e, 2]) ** 2)
-            eps = length / rest[e] - 1.0
-            if eps > 0.0:
-                p_rest -= fp[FP_EA] * eps * (1.0 + 0.5 * eps) * ldot
-            p_rest += mu * ldot * g * 0.5 * (x[e, 2] + x[e + 1, 2])
-        acc[ACC_REST] += dt * p_rest
-        acc[ACC_THROUGHPUT] += dt * abs(p_rest)
-        # Gravity work on the end lumps is not in the balance's system: their potential
-        # energy change is an inflow.
-        p_lumps = g * (0.5 * mu * rest[0] * v0[2] + 0.5 * mu * rest[n_el - 1] * vf[2])
-        acc[ACC_ENDS] += dt * p_lumps
-        acc[ACC_THROUGHPUT] += dt * abs(p_lumps)
-        if st[ST_KV] == 1:
+        if order == 1:
             for e in range(n_el):
-                tk = tens[e]
+                if method == METHOD_UNIFORM:
+                    ldot = feed / n_el
+                elif (method == METHOD_ALE or method == METHOD_LAST) and e == 0:
+                    ldot = feed
+                else:
+                    continue
                 length = np.sqrt((x[e + 1, 0] - x[e, 0]) ** 2 + (x[e + 1, 1] - x[e, 1]) ** 2
                                  + (x[e + 1, 2] - x[e, 2]) ** 2)
                 eps = length / rest[e] - 1.0
-                if tk > 0.0 and eps > 0.0:
-                    tk -= fp[FP_EA] * eps
-                    w = 0.0
+                if eps > 0.0:
+                    p_rest -= ea * eps * (1.0 + 0.5 * eps) * ldot
+                p_rest += mu * ldot * g * 0.5 * (x[e, 2] + x[e + 1, 2])
+        else:
+            for gi in range(2):
+                _gauss_stretch(x, rest, 0, gi, r)
+                eps = np.sqrt(r[0] * r[0] + r[1] * r[1] + r[2] * r[2]) - 1.0
+                if eps > 0.0:
+                    p_rest -= 0.5 * ea * eps * (1.0 + 0.5 * eps) * feed
+            p_rest += mu * feed * g * (x[0, 2] / 6.0 + 2.0 / 3.0 * x[1, 2] + x[2, 2] / 6.0)
+            # The reel element's middle node stays at its middle: it moves through the material
+            # by -Ldot / 2 along dr/ds (mesh velocity = material velocity - Ldot / 2 r'(0)); the
+            # elastic and gravity forces' work on that motion is part of this flow.
+            for c in range(3):
+                mesh[c] = -0.5 * feed * (x[2, c] - x[0, c]) / rest[0]
+                p_rest -= lump(rest, n, order, mu, 1) * g * mesh[c] if c == 2 else 0.0
+            for gi in range(2):
+                _gauss_stretch(x, rest, 0, gi, r)
+                lam = np.sqrt(r[0] * r[0] + r[1] * r[1] + r[2] * r[2])
+                elastic = tens[gi] - tkv[gi]
+                if tens[gi] > 0.0:
                     for c in range(3):
-                        w += (x[e + 1, c] - x[e, c]) / length * (v[e + 1, c] - v[e, c])
-                    acc[ACC_KV] -= dt * tk * w
-                    acc[ACC_THROUGHPUT] += dt * abs(tk * w)
+                        p_rest += elastic * r[c] / lam * 2.0 * GAUSS[gi] * mesh[c]
+        acc[ACC_REST] += dt * p_rest
+        acc[ACC_THROUGHPUT] += dt * abs(p_rest)
+        # Kelvin-Voigt dissipation: the damping tension's power on the nodes' velocities.
+        if kv_on:
+            p_kv = 0.0
+            if order == 1:
+                for e in range(n_el):
+                    tk = tens[e]
+                    length = np.sqrt((x[e + 1, 0] - x[e, 0]) ** 2 + (x[e + 1, 1] - x[e, 1]) ** 2
+                                     + (x[e + 1, 2] - x[e, 2]) ** 2)
+                    eps = length / rest[e] - 1.0
+                    if tk > 0.0 and eps > 0.0:
+                        tk -= ea * eps
+                        w = 0.0
+                        for c in range(3):
+                            w += (x[e + 1, c] - x[e, c]) / length * (v[e + 1, c] - v[e, c])
+                        p_kv -= tk * w
+            else:
+                for e in range(n_el):
+                    j = 2 * e
+                    for gi in range(2):
+                        tk = tkv[2 * e + gi]
+                        if tens[2 * e + gi] == 0.0 or tk == 0.0:
+                            continue
+                        z = GAUSS[gi]
+                        _gauss_stretch(x, rest, e, gi, r)
+                        lam = np.sqrt(r[0] * r[0] + r[1] * r[1] + r[2] * r[2])
+                        w = 0.0
+                        for c in range(3):
+                            w += r[c] / lam * ((z - 0.5) * v[j, c] - 2.0 * z * v[j + 1, c] + (z + 0.5) * v[j + 2, c])
+                        p_kv -= tk * w
+            acc[ACC_KV] += dt * p_kv
+            acc[ACC_THROUGHPUT] += dt * abs(p_kv)
         for i in range(1, n - 1):
             for c in range(3):
                 x[i, c] += dt * v[i, c]
+        if order == 2 and method == METHOD_ALE and n > 3:
+            for c in range(3):
+                x[1, c] += dt * mesh[c]
         # The mesh follows the deployed length.
         if method == METHOD_ALE or method == METHOD_LAST:
             rest[0] += dt * feed
@@ -434,47 +658,93 @@ def advance(x, v, rest, st, fp, rs, rp, g_tab, u_tab, t_a, t_b, n_sub, bs, inert
                 rest[e] = length_now / n_el
         else:
             fp[FP_PENDING] += dt * feed
+        e_before = 0.0
         if method == METHOD_ALE:
-            if rest[0] > SPLIT * h:
-                e_before = energy(x, v, rest, n, fp)
-                _split(x, v, rest, st, fp, u0)
-                acc[ACC_RESHAPE] += energy(x, v, rest, st[ST_NODES], fp) - e_before
-                acc[ACC_THROUGHPUT] += abs(energy(x, v, rest, st[ST_NODES], fp) - e_before)
-            elif rest[0] < MERGE * h and n > 3:
-                e_before = energy(x, v, rest, n, fp)
-                owed = _merge(x, v, rest, st, fp, u0, v0, feed, True)
-                fp[FP_OWED] += owed
-                acc[ACC_OWED] += owed
-                acc[ACC_RESHAPE] += energy(x, v, rest, st[ST_NODES], fp) - e_before
-                acc[ACC_THROUGHPUT] += abs(energy(x, v, rest, st[ST_NODES], fp) - e_before)
+            if rest[0] > (SPLIT if order == 1 else SPLIT_QUADRATIC) * h:
+                e_before = energy(x, v, rest, n, fp, order)
+                if order == 1:
+                    _split(x, v, rest, st, fp, u0)
+                else:
+                    _split_quadratic(x, v, rest, st, fp, u0)
+            elif rest[0] < (MERGE if order == 1 else MERGE_QUADRATIC) * h and n_el > 3 - order:
+                e_before = energy(x, v, rest, n, fp, order)
+                if order == 1:
+                    owed = _merge(x, v, rest, st, fp, u0, v0, feed, True)
+                    fp[FP_OWED] += owed
+                    acc[ACC_OWED] += owed
+                else:
+                    _merge_quadratic(x, v, rest, st, fp, u0)
         elif method == METHOD_INSERT:
             if fp[FP_PENDING] >= h:
-                e_before = energy(x, v, rest, n, fp)
+                e_before = energy(x, v, rest, n, fp, order)
                 rest[0] += h
                 fp[FP_PENDING] -= h
                 _split(x, v, rest, st, fp, v0)
-                acc[ACC_RESHAPE] += energy(x, v, rest, st[ST_NODES], fp) - e_before
-                acc[ACC_THROUGHPUT] += abs(energy(x, v, rest, st[ST_NODES], fp) - e_before)
             elif fp[FP_PENDING] <= -h and n > 3:
-                e_before = energy(x, v, rest, n, fp)
+                e_before = energy(x, v, rest, n, fp, order)
                 _merge(x, v, rest, st, fp, v0, v0, 0.0, False)
                 rest[0] -= h
                 fp[FP_PENDING] += h
-                acc[ACC_RESHAPE] += energy(x, v, rest, st[ST_NODES], fp) - e_before
-                acc[ACC_THROUGHPUT] += abs(energy(x, v, rest, st[ST_NODES], fp) - e_before)
+        if st[ST_NODES] != n:
+            change = energy(x, v, rest, st[ST_NODES], fp, order) - e_before
+            acc[ACC_RESHAPE] += change
+            acc[ACC_THROUGHPUT] += abs(change)
         if st[ST_STATUS] != STATUS_OK:
             return
-        n = st[ST_NODES]
         for c in range(3):
             if not np.isfinite(x[1, c] + v[1, c]):
                 st[ST_STATUS] = STATUS_NONFINITE
                 return
-    n = st[ST_NODES]
-    _hermite(g_tab, t_a, t_b, t_b, p0, v0)
-    if st[ST_BODY] == 1:
-        body_attach(bs, rho, pf, vf)
-    else:
-        _hermite(u_tab, t_a, t_b, t_b, pf, vf)
+    _set_ends(x, v, st[ST_NODES], st[ST_BODY] == 1, bs, rho, g_tab, u_tab, t_a, t_b, t_b, p0, v0, pf, vf)
+
+
+@njit(cache=True)
+def end_state(x, v, rest, n, fp, order, kv_on, feed, seg, force_reel, force_uav):
+    """The tether's state at its ends after a step: the tension along the tether between
+    consecutive nodes into seg[:n - 1] (linear: each element's; quadratic: the Gauss points'
+    tension field at zeta = -1/2 and +1/2), the force on the guide way (the exit tension along
+    the departing tangent) and on the UAV attachment point (the internal force on the last
+    node plus the weight of its lump, which hangs on the UAV). Returns the tensions at the
+    guide way and at the UAV, N (linear: the last element's tension carried over the
+    half-element's weight; quadratic: the element's tension at zeta = +1).
+    """
+    mu, g = fp[FP_MU], fp[FP_G]
+    tan, u0 = np.empty(3), np.empty(3)
+    guide_tangent(x, rest, order, tan)
     for c in range(3):
-        x[0, c], v[0, c] = p0[c], v0[c]
-        x[n - 1, c], v[n - 1, c] = pf[c], vf[c]
+        u0[c] = v[0, c] + feed * tan[c]
+    f = np.zeros((n, 3))
+    tens = np.zeros(n)
+    if order == 1:
+        element_tensions(x, v, rest, n, fp, kv_on, u0, tens)
+        seg[:n - 1] = tens[:n - 1]
+        t_exit = exit_tension(x, rest, tens, fp)
+        e = n - 2
+        d = np.sqrt((x[n - 1, 0] - x[e, 0]) ** 2 + (x[n - 1, 1] - x[e, 1]) ** 2 + (x[n - 1, 2] - x[e, 2]) ** 2)
+        for c in range(3):
+            f[n - 1, c] = -tens[e] * (x[n - 1, c] - x[e, c]) / d if d > 0.0 else 0.0
+        t_end = tens[e] + 0.5 * mu * g * (x[n - 1, 2] - x[e, 2]) / d * rest[e] if tens[e] > 0.0 and d > 0.0 else 0.0
+    else:
+        tkv = np.zeros(n)
+        quadratic_forces(x, v, rest, n, fp, kv_on, u0, tens, tkv, f)
+        t_exit = quadratic_exit_tension(x, v, rest, fp, kv_on, u0)
+        w = 0.5 - np.sqrt(3.0) / 4.0  # zeta = -1/2 between the Gauss points -1/sqrt3 and 1/sqrt3
+        for e in range((n - 1) // 2):
+            ta, tb = tens[2 * e], tens[2 * e + 1]
+            seg[2 * e] = max((1.0 - w) * ta + w * tb, 0.0)
+            seg[2 * e + 1] = max(w * ta + (1.0 - w) * tb, 0.0)
+        j, k = n - 3, 1.0 / rest[(n - 1) // 2 - 1]
+        lam2, rate = 0.0, 0.0
+        for c in range(3):
+            rc = (x[j, c] - 4.0 * x[j + 1, c] + 3.0 * x[j + 2, c]) * k
+            lam2 += rc * rc
+            rate += rc * (v[j, c] - 4.0 * v[j + 1, c] + 3.0 * v[j + 2, c]) * k
+        lam = np.sqrt(lam2)
+        t_end = fp[FP_EA] * (lam - 1.0) + (fp[FP_KV] * rate / lam if kv_on else 0.0) if lam > 1.0 else 0.0
+        t_end = max(t_end, 0.0)
+    norm = np.sqrt(tan[0] ** 2 + tan[1] ** 2 + tan[2] ** 2)
+    for c in range(3):
+        force_reel[c] = t_exit * tan[c] / norm if norm > 0.0 else 0.0
+        force_uav[c] = f[n - 1, c]
+    force_uav[2] -= lump(rest, n, order, mu, n - 1) * g
+    return t_exit, t_end

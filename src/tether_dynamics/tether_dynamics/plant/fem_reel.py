@@ -76,6 +76,8 @@ def stable_step(config: PlantConfig) -> float:
     """Largest stable internal step (s) of the moving-reel FEM for this configuration."""
     h = config.nominal_element_length
     c = math.sqrt(config.ea / config.mass_per_length)
+    if config.fidelity == 'quadratic':
+        return _quadratic_stable_step(config, fk.MERGE_QUADRATIC * h, h)
     shortest = fk.MERGE * h
     omega = math.sqrt(2.0 * config.ea / (config.mass_per_length * shortest * h))
     step = min(2.0 / omega, h / c)
@@ -86,46 +88,85 @@ def stable_step(config: PlantConfig) -> float:
     return step
 
 
-def _discrete_equilibrium(x: np.ndarray, rest: np.ndarray, ea: float, mu: float, g: float,
+def _quadratic_stable_step(config: PlantConfig, shortest: float, h: float) -> float:
+    """Symplectic Euler's limit on quadratic elements, from the highest axial mode of a chain
+    of the shortest reel element and two full ones (lumped masses 1/6, 2/3, 1/6; 2-point
+    Gauss stiffness, Eq. D.8): dt = 2 / omega (sqrt(1 + xi^2) - xi), with the Kelvin-Voigt
+    damping ratio xi = c omega / (2 EA) of that mode.
+    """
+    ea, mu = config.ea, config.mass_per_length
+    slope = 2.0 * np.array([[z - 0.5, -2.0 * z, z + 0.5] for z in fk.GAUSS])
+    rests = (shortest, h, h)
+    n = 2 * len(rests) + 1
+    stiff, mass = np.zeros((n, n)), np.zeros(n)
+    for e, l0 in enumerate(rests):
+        idx = slice(2 * e, 2 * e + 3)
+        stiff[idx, idx] += ea / (2.0 * l0) * slope.T @ slope
+        mass[idx] += mu * l0 * np.array([1.0, 4.0, 1.0]) / 6.0
+    scale = 1.0 / np.sqrt(mass)
+    omega = math.sqrt(float(np.max(np.linalg.eigvalsh(scale[:, None] * stiff * scale[None, :]))))
+    xi = config.damping * omega / (2.0 * ea) if 'damping' in config.effects else 0.0
+    return 2.0 / omega * (math.sqrt(1.0 + xi * xi) - xi)
+
+
+def _strain_points(rest: np.ndarray, order: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Where the discrete chain measures strain: node indices (P, order + 1), the coefficients
+    of dr/ds on them (P, order + 1) and the rest length each point stands for (P,). Linear:
+    one point per element; quadratic: its two Gauss points (Appendix D.3).
+    """
+    if order == 1:
+        k = np.arange(rest.size)
+        return (np.stack([k, k + 1], axis=1), np.stack([-1.0 / rest, 1.0 / rest], axis=1), rest.copy())
+    slope = np.array([[z - 0.5, -2.0 * z, z + 0.5] for z in fk.GAUSS])
+    e = np.repeat(np.arange(rest.size), 2)
+    idx = 2 * e[:, None] + np.arange(3)[None, :]
+    coef = 2.0 / rest[e][:, None] * np.tile(slope, (rest.size, 1))
+    return idx, coef, 0.5 * rest[e]
+
+
+def _lumps(rest: np.ndarray, order: int, mu: float) -> np.ndarray:
+    """Lumped node masses, kg (:func:`fem_kernels.lump`)."""
+    n = order * rest.size + 1
+    return np.array([fk.lump(rest, n, order, mu, i) for i in range(n)])
+
+
+def _discrete_equilibrium(x: np.ndarray, rest: np.ndarray, order: int, ea: float, mu: float, g: float,
                           iterations: int = 60) -> np.ndarray:
-    """Static equilibrium of the lumped chain with both end nodes held: damped Newton on the
-    (convex) potential energy sum 1/2 EA l (|d| / l - 1)^2 (tension only) + sum m g z.
+    """Static equilibrium of the discrete chain with both end nodes held: damped Newton on the
+    (convex) potential energy sum_p 1/2 EA w_p max(|r'_p| - 1, 0)^2 + sum m_i g z_i over the
+    strain points p (:func:`_strain_points`) and the lumps.
     """
     x = x.copy()
     n = x.shape[0]
     if n < 3:
         return x
-    lumps = np.zeros(n)
-    lumps[:-1] += 0.5 * mu * rest
-    lumps[1:] += 0.5 * mu * rest
+    idx, coef, weight = _strain_points(rest, order)
+    lumps = _lumps(rest, order, mu)
 
     def energy(xx: np.ndarray) -> float:
-        d = np.linalg.norm(np.diff(xx, axis=0), axis=1)
-        eps = np.maximum(d / rest - 1.0, 0.0)
-        return float(np.sum(0.5 * ea * rest * eps**2) + g * np.sum(lumps * xx[:, 2]))
+        lam = np.linalg.norm(np.einsum('pk,pkc->pc', coef, xx[idx]), axis=1)
+        return float(np.sum(0.5 * ea * weight * np.maximum(lam - 1.0, 0.0) ** 2) + g * np.sum(lumps * xx[:, 2]))
 
     for _ in range(iterations):
-        diff = np.diff(x, axis=0)
-        d = np.linalg.norm(diff, axis=1)
-        e = diff / d[:, None]
-        tension = ea * np.maximum(d / rest - 1.0, 0.0)
-        force = np.zeros((n, 3))
-        force[:-1] += tension[:, None] * e
-        force[1:] -= tension[:, None] * e
-        force[:, 2] -= lumps * g
-        grad = -force[1:-1].ravel()
+        r = np.einsum('pk,pkc->pc', coef, x[idx])
+        lam = np.linalg.norm(r, axis=1)
+        e = r / lam[:, None]
+        stress = ea * weight * np.maximum(lam - 1.0, 0.0)
+        grad_all = np.zeros((n, 3))
+        np.add.at(grad_all, idx, (stress[:, None] * coef)[:, :, None] * e[:, None, :])
+        grad_all[:, 2] += lumps * g
+        grad = grad_all[1:-1].ravel()
         if np.max(np.abs(grad)) < 1e-10 * ea:
             break
         hess = np.zeros((3 * n, 3 * n))
-        for k in range(n - 1):
-            taut = tension[k] > 0.0
-            block = (ea / rest[k] * np.outer(e[k], e[k]) + tension[k] / d[k] * (np.eye(3) - np.outer(e[k], e[k]))
-                     if taut else 1e-9 * ea / rest[k] * np.eye(3))
-            i, j = 3 * k, 3 * k + 3
-            hess[i:i + 3, i:i + 3] += block
-            hess[j:j + 3, j:j + 3] += block
-            hess[i:i + 3, j:j + 3] -= block
-            hess[j:j + 3, i:i + 3] -= block
+        for p in range(idx.shape[0]):
+            if lam[p] > 1.0:
+                block = ea * weight[p] * ((1.0 - 1.0 / lam[p]) * np.eye(3) + np.outer(e[p], e[p]) / lam[p])
+            else:
+                block = 1e-9 * ea * weight[p] * np.eye(3)
+            for a, ia in enumerate(idx[p]):
+                for b, ib in enumerate(idx[p]):
+                    hess[3 * ia:3 * ia + 3, 3 * ib:3 * ib + 3] += coef[p, a] * coef[p, b] * block
         h_free = hess[3:-3, 3:-3] + 1e-9 * ea / np.min(rest) * np.eye(3 * (n - 2))
         step = -np.linalg.solve(h_free, grad).reshape(-1, 3)
         e0, alpha = energy(x), 1.0
@@ -143,10 +184,14 @@ class FemTether:
     """The deployed tether's finite elements, stepped by :func:`fem_kernels.advance`."""
 
     def __init__(self, config: PlantConfig) -> None:
-        if config.fidelity != 'linear':
-            msg = f"fidelity {config.fidelity!r}: the moving-reel FEM has linear elements; use 'linear'"
+        if config.fidelity not in ('linear', 'quadratic'):
+            msg = f"fidelity {config.fidelity!r}: the moving-reel FEM has 'linear' or 'quadratic' elements"
+            raise PlantConfigError(msg)
+        if config.fidelity == 'quadratic' and config.reshape != 'ale':
+            msg = f"reshape {config.reshape!r} is a linear-element method; quadratic elements use 'ale'"
             raise PlantConfigError(msg)
         self.config = config
+        self.order = 2 if config.fidelity == 'quadratic' else 1
         cfg = config
         h = cfg.nominal_element_length
         limit = STABLE_FRACTION * stable_step(cfg)
@@ -157,7 +202,7 @@ class FemTether:
         if cfg.reshape == 'uniform':
             cap = cfg.elements + 1
         else:
-            cap = int(math.ceil(cfg.reel.max_length / h)) + 4
+            cap = self.order * (int(math.ceil(cfg.reel.max_length / h)) + 4) + 1
         self.x = np.zeros((cap, 3))
         self.v = np.zeros((cap, 3))
         self.rest = np.zeros(cap)
@@ -167,6 +212,7 @@ class FemTether:
         self.st[fk.ST_DRAG] = 'drag' in cfg.effects
         self.st[fk.ST_WIND] = 'wind' in cfg.effects
         self.st[fk.ST_KV] = 'damping' in cfg.effects and cfg.damping > 0.0
+        self.st[fk.ST_ORDER] = self.order
         self.fp = np.zeros(fk.FP_SIZE)
         self.fp[fk.FP_EA], self.fp[fk.FP_MU], self.fp[fk.FP_H] = cfg.ea, cfg.mass_per_length, h
         self.fp[fk.FP_G], self.fp[fk.FP_DIAMETER] = cfg.gravity, cfg.diameter
@@ -178,6 +224,9 @@ class FemTether:
         self.acc[fk.ACC_LAST_T] = np.nan
         self.energy0 = 0.0
         self._no_table = np.zeros((4, 3))
+        self._inertia = np.asarray(cfg.uav.inertia, float)
+        self._inertia_inv = np.linalg.inv(self._inertia)
+        self._rho = np.asarray(cfg.uav.attach_offset, float)
 
     def _rest_lengths(self, length: float) -> np.ndarray:
         cfg = self.config
@@ -199,7 +248,7 @@ class FemTether:
         """
         cfg = self.config
         rest = self._rest_lengths(length)
-        n = rest.size + 1
+        n = self.order * rest.size + 1
         shape = quasi_static.solve(a, b, length, cfg.mass_per_length, cfg.ea, cfg.gravity)
         sol = shape.solution
         dense = shape.points(a, 4001)
@@ -214,14 +263,26 @@ class FemTether:
         stretch = 1.0 / (1.0 + tension / cfg.ea)
         material = np.concatenate([[0.0], np.cumsum(0.5 * (stretch[1:] + stretch[:-1]) * np.diff(arc))])
         material *= length / material[-1]
-        where = np.interp(np.concatenate([[0.0], np.cumsum(rest)]), material, arc)
+        where = np.interp(self._node_arc(rest), material, arc)
         self.x[:n] = np.column_stack([np.interp(where, arc, dense[:, c]) for c in range(3)])
         self.x[n - 1] = b
-        self.x[:n] = _discrete_equilibrium(self.x[:n], rest, cfg.ea, cfg.mass_per_length, cfg.gravity)
+        self.x[:n] = _discrete_equilibrium(self.x[:n], rest, self.order, cfg.ea, cfg.mass_per_length, cfg.gravity)
         self.v[:] = 0.0
-        self.rest[:n - 1] = rest
+        self.rest[:rest.size] = rest
         self.st[fk.ST_NODES] = n
         self.energy0 = self.energy()
+
+    def _node_arc(self, rest: np.ndarray) -> np.ndarray:
+        """Unstretched distance of each node from the guide way for element rest lengths ``rest``
+        (a quadratic element's middle node halfway), m.
+        """
+        ends = np.concatenate([[0.0], np.cumsum(rest)])
+        if self.order == 1:
+            return ends
+        out = np.empty(2 * rest.size + 1)
+        out[0::2] = ends
+        out[1::2] = ends[:-1] + 0.5 * rest
+        return out
 
     def advance(self, t_a: float, t_b: float, n_sub: int, g_tab: np.ndarray, u_tab: np.ndarray | None,
                 rs: np.ndarray, rp: np.ndarray, torque_input: bool, command: float, body: np.ndarray,
@@ -234,8 +295,7 @@ class FemTether:
         self.fp[fk.FP_THRUST] = thrust
         fk.advance(self.x, self.v, self.rest, self.st, self.fp, rs, rp, g_tab,
                    u_tab if u_tab is not None else self._no_table, t_a, t_b, n_sub, body,
-                   np.asarray(cfg.uav.inertia, float), np.linalg.inv(np.asarray(cfg.uav.inertia, float)),
-                   np.asarray(cfg.uav.attach_offset, float), np.asarray(torque, float), self.acc)
+                   self._inertia, self._inertia_inv, self._rho, torque, self.acc)
         status = int(self.st[fk.ST_STATUS])
         if status == fk.STATUS_FULL:
             msg = 'the tether needs more elements than the reel max_length allows; raise reel.max_length'
@@ -260,44 +320,71 @@ class FemTether:
         """(n, 3) node velocities, m/s (node 0: the guide way's)."""
         return self.v[:self.n].copy()
 
-    def _guide_material_velocity(self) -> np.ndarray:
-        u0 = self.v[0].copy()
-        if self.config.reshape == 'ale':
-            u0 += self.fp[fk.FP_PAYOUT] * (self.x[1] - self.x[0]) / self.rest[0]
-        return u0
+    @property
+    def elements(self) -> int:
+        """Elements in use."""
+        return (self.n - 1) // self.order
 
-    def tensions(self) -> np.ndarray:
-        """(n - 1,) element tensions, N (Kelvin-Voigt included when on)."""
-        out = np.zeros(self.n - 1)
-        fk.element_tensions(self.x, self.v, self.rest, self.n, self.fp, bool(self.st[fk.ST_KV]),
-                            self._guide_material_velocity(), out)
-        return out
+    def lumps(self) -> np.ndarray:
+        """(n,) lumped node masses, kg (:func:`fem_kernels.lump`)."""
+        return _lumps(self.rest[:self.elements], self.order, self.config.mass_per_length)
 
-    def end_forces(self, tensions: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """Forces of the tether on the guide way and on the UAV, N (:func:`fem_kernels.end_forces`)."""
-        reel, uav = np.empty(3), np.empty(3)
-        fk.end_forces(self.x, self.rest, self.n, tensions, self.fp, reel, uav)
-        return reel, uav
+    def end_state(self) -> tuple[np.ndarray, np.ndarray, np.ndarray, float, float]:
+        """Tensions between consecutive nodes (n - 1,), N; forces of the tether on the guide way
+        and on the UAV (3,), N; tensions at the guide way and at the UAV, N
+        (:func:`fem_kernels.end_state`; Kelvin-Voigt included when on).
+        """
+        seg, reel, uav = np.zeros(self.n - 1), np.empty(3), np.empty(3)
+        feed = float(self.fp[fk.FP_PAYOUT]) if self.config.reshape == 'ale' else 0.0
+        t_a, t_b = fk.end_state(self.x, self.v, self.rest, self.n, self.fp, self.order, bool(self.st[fk.ST_KV]),
+                                feed, seg, reel, uav)
+        return seg, reel, uav, float(t_a), float(t_b)
+
+    def end_tangents(self) -> tuple[np.ndarray, np.ndarray]:
+        """The tether's tangents at the guide way and at the UAV, pointing from the reel
+        towards the UAV (not normalised)."""
+        x, n = self.x, self.n
+        if self.order == 1:
+            return x[1] - x[0], x[n - 1] - x[n - 2]
+        return -3.0 * x[0] + 4.0 * x[1] - x[2], x[n - 3] - 4.0 * x[n - 2] + 3.0 * x[n - 1]
 
     def arc_length(self) -> np.ndarray:
         """(n,) unstretched distance of each node from the guide way along the deployed
         tether, m (including what a merge still owes the reel element).
         """
-        return np.concatenate([[0.0], float(self.fp[fk.FP_OWED]) + np.cumsum(self.rest[:self.n - 1])])
+        arc = self._node_arc(self.rest[:self.elements])
+        arc[1:] += float(self.fp[fk.FP_OWED])
+        return arc
 
     def deployed_rest_length(self) -> float:
         """Deployed tether mass over mu, m: the elements' rest lengths plus what a merge still
         owes the reel element (material at the guide way, fed back within a second).
         """
-        return float(np.sum(self.rest[:self.n - 1])) + float(self.fp[fk.FP_OWED])
+        return float(np.sum(self.rest[:self.elements])) + float(self.fp[fk.FP_OWED])
 
     def lowest_point(self) -> np.ndarray:
-        """The lowest node (the lowest point of a piecewise-linear tether), m."""
-        return self.x[int(np.argmin(self.x[:self.n, 2]))].copy()
+        """The lowest point of the tether, m: the lowest node of linear elements; on quadratic
+        elements the lowest point of each element's parabola (Eq. 8.23), where it lies inside.
+        """
+        x = self.x[:self.n]
+        best = x[int(np.argmin(x[:, 2]))].copy()
+        if self.order == 2:
+            xa, xm, xb = x[0:-1:2], x[1::2], x[2::2]
+            curve = xa[:, 2] - 2.0 * xm[:, 2] + xb[:, 2]
+            with np.errstate(divide='ignore', invalid='ignore'):
+                zeta = np.where(curve > 0.0, 0.5 * (xa[:, 2] - xb[:, 2]) / curve, 2.0)
+            inside = np.abs(zeta) < 1.0
+            if np.any(inside):
+                z = zeta[inside][:, None]
+                pts = 0.5 * (z * z - z) * xa[inside] + (1.0 - z * z) * xm[inside] + 0.5 * (z * z + z) * xb[inside]
+                low = pts[int(np.argmin(pts[:, 2]))]
+                if low[2] < best[2]:
+                    best = low
+        return best
 
     def energy(self) -> float:
         """Mechanical energy the balance counts (:func:`fem_kernels.energy`), J."""
-        return float(fk.energy(self.x, self.v, self.rest, self.n, self.fp))
+        return float(fk.energy(self.x, self.v, self.rest, self.n, self.fp, self.order))
 
     def balance(self) -> dict[str, float]:
         """Energy balance of the deployed tether since the start, J: the energy change, each

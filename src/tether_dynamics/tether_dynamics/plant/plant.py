@@ -189,28 +189,25 @@ class TetherPlant:
             element_rest = np.diff(arc)
         else:
             fem = self._fem
-            nodes, vel, tensions, arc = fem.nodes(), fem.velocities(), fem.tensions(), fem.arc_length()
-            element_rest = np.diff(arc)
-            f_reel, f_uav = fem.end_forces(tensions)
-            e_a, e_b = nodes[1] - nodes[0], nodes[-1] - nodes[-2]
-            # Element tensions are the values at the elements' midpoints; the end values carry
-            # them over the half-element's weight (as fem_kernels.exit_tension at the reel).
-            t_a = float(np.linalg.norm(f_reel))
-            t_b = float(tensions[-1]) + 0.5 * mu * g * float(e_b[2] / max(np.linalg.norm(e_b), 1e-300)) * (
-                float(arc[-1] - arc[-2])) if tensions[-1] > 0.0 else 0.0
+            nodes, vel, arc = fem.nodes(), fem.velocities(), fem.arc_length()
+            tensions, f_reel, f_uav, t_a, t_b = fem.end_state()
+            e_a, e_b = fem.end_tangents()
             alpha = math.atan2(e_a[2], math.hypot(e_a[0], e_a[1]))
             beta = math.atan2(e_b[2], math.hypot(e_b[0], e_b[1]))
             lowest = fem.lowest_point()
-        lumps = np.zeros(len(nodes))
-        lumps[:-1] += 0.5 * mu * element_rest
-        lumps[1:] += 0.5 * mu * element_rest
+        if self._fem is None:
+            lumps = np.zeros(len(nodes))
+            lumps[:-1] += 0.5 * mu * element_rest
+            lumps[1:] += 0.5 * mu * element_rest
+        else:
+            lumps = self._fem.lumps()
         kinetic = 0.5 * float(np.sum(lumps * np.sum(vel * vel, axis=1)))
         potential = g * float(np.sum(lumps * nodes[:, 2]))
-        strain = float(np.sum(tensions**2 * element_rest / (2.0 * cfg.ea)))
+        strain = float(np.sum(tensions**2 * np.diff(arc) / (2.0 * cfg.ea)))
         moment = np.cross(end - upos, f_uav)
         sea = float(inputs.sea_surface_height)
         return PlantOutputs(
-            t=t, fidelity=cfg.fidelity, element_count=len(nodes) - 1, reel_end=a.copy(), uav_end=end.copy(),
+            t=t, fidelity=cfg.fidelity, element_count=self._fem.elements if self._fem is not None else len(nodes) - 1, reel_end=a.copy(), uav_end=end.copy(),
             deployed_length=length, payout_rate=cfg.reel.spool_radius * float(self._rs[bodies.RS_RATE]),
             spool_angle=float(self._rs[bodies.RS_ANGLE]), spool_rate=float(self._rs[bodies.RS_RATE]),
             reel_torque=float(self._rs[bodies.RS_TORQUE]), at_stop=bool(self._rs[bodies.RS_STOP]),
