@@ -24,9 +24,10 @@ def _smooth(t: float, start: float, duration: float) -> float:
     return 0.5 - 0.5 * math.cos(math.pi * u)
 
 
-def _hanging(dt: float = 2e-4, reel: ReelConfig | None = None, length: float = 5.0, **kw) -> TetherPlant:
+def _hanging(dt: float = 2e-4, reel: ReelConfig | None = None, length: float = 5.0, fidelity: str = 'linear',
+             **kw) -> TetherPlant:
     """A tether hanging from a fixed guide way with a 1 kg body at its end, at rest."""
-    cfg = PlantConfig(fidelity='linear', element_length=1.0, dt=dt, initial_length=length,
+    cfg = PlantConfig(fidelity=fidelity, element_length=1.0, dt=dt, initial_length=length,
                       guide_way_offset=(0.0, 0.0, 0.0), mass_per_length=MU, ea=EA,
                       reel=reel or ReelConfig(input='spool_rate', spool_radius=0.1, max_length=60.0),
                       uav=UavConfig(mode='dynamic', mass=MASS, attach_offset=(0.0, 0.0, 0.0)), **kw)
@@ -40,11 +41,12 @@ def _mass_error(plant: TetherPlant, total: float) -> float:
     return abs(plant.total_tether_mass() - MU * total) / (MU * total)
 
 
-def test_vertical_payout_and_reel_in_follow_the_hanging_weight() -> None:
+@pytest.mark.parametrize('fidelity', ['linear', 'quadratic'])
+def test_vertical_payout_and_reel_in_follow_the_hanging_weight(fidelity: str) -> None:
     """Reel tension = (m + mu L) g (+ the end body's and tether's inertia while they
     accelerate) through 2 m/s payout, hold and 2 m/s reel-in, across splits and merges.
     """
-    plant = _hanging(effects=('damping',), damping=1.0)
+    plant = _hanging(effects=('damping',), damping=1.0, fidelity=fidelity)
     rows = []
     for k in range(1, 1701):
         t = 0.01 * k
@@ -70,8 +72,9 @@ def test_vertical_payout_and_reel_in_follow_the_hanging_weight() -> None:
     assert _mass_error(plant, 150.0) <= 1e-9
 
 
-@pytest.mark.parametrize(('torque_scale', 'events'), [(0.5, 0), (1.5, 1)])
-def test_reel_tension_has_no_step_at_splits_and_merges(torque_scale: float, events: int) -> None:
+@pytest.mark.parametrize(('torque_scale', 'events', 'fidelity'),
+                         [(0.5, 0, 'linear'), (1.5, 1, 'linear'), (0.5, 0, 'quadratic'), (1.5, 1, 'quadratic')])
+def test_reel_tension_has_no_step_at_splits_and_merges(torque_scale: float, events: int, fidelity: str) -> None:
     """Torque-driven payout (0.5 x the holding torque) and reel-in (1.5 x): the largest
     one-step change of the reel tension halves with the step (it is the physical change),
     through splits or merges.
@@ -79,7 +82,7 @@ def test_reel_tension_has_no_step_at_splits_and_merges(torque_scale: float, even
     steps = {}
     for dt in (2e-4, 1e-4):
         reel = ReelConfig(input='torque', spool_radius=0.1, inertia=0.02, max_length=60.0, min_length=1.0)
-        plant = _hanging(dt, reel, length=8.0, effects=('damping',), damping=1.0)
+        plant = _hanging(dt, reel, length=8.0, effects=('damping',), damping=1.0, fidelity=fidelity)
         hold = -0.1 * (MASS + MU * 8.0) * G
         for k in range(1, 201):
             out = plant.step(0.02 * k, PlantInputs(reel_torque=torque_scale * hold))
@@ -89,17 +92,25 @@ def test_reel_tension_has_no_step_at_splits_and_merges(torque_scale: float, even
     assert steps[2e-4] / steps[1e-4] > 1.6
 
 
-def _sagging(dt: float, element_length: float = 2.0, length: float = 4.0, **kw) -> TetherPlant:
-    cfg = PlantConfig(fidelity='linear', element_length=element_length, dt=dt, initial_length=length,
+def _sagging(dt: float, element_length: float = 2.0, length: float = 4.0, fidelity: str = 'linear',
+             **kw) -> TetherPlant:
+    """Quadratic elements are given twice the length of linear ones (the same nodes), and a
+    step within their stable step.
+    """
+    if fidelity == 'quadratic':
+        element_length *= 2.0
+        dt = min(dt, 2e-4 * element_length)
+    cfg = PlantConfig(fidelity=fidelity, element_length=element_length, dt=dt, initial_length=length,
                       guide_way_offset=(0.0, 0.0, 0.5), mass_per_length=MU, ea=EA,
                       reel=ReelConfig(input='spool_rate', spool_radius=0.1, max_length=110.0, total_length=150.0),
                       uav=UavConfig(mode='prescribed', attach_offset=(0.0, 0.0, 0.0)), **kw)
     return TetherPlant(cfg)
 
 
-def test_hundred_metres_out_at_two_metres_per_second_and_back() -> None:
+@pytest.mark.parametrize('fidelity', ['linear', 'quadratic'])
+def test_hundred_metres_out_at_two_metres_per_second_and_back(fidelity: str) -> None:
     uav = np.array([3.0, 0.0, 2.0])
-    plant = _sagging(5e-4, effects=('drag', 'damping'), damping=2.0)
+    plant = _sagging(5e-4, effects=('drag', 'damping'), damping=2.0, fidelity=fidelity)
     plant.step(0.0, PlantInputs(uav_position=uav))
     peak = 0.0
     for k in range(1, 2221):
@@ -112,15 +123,20 @@ def test_hundred_metres_out_at_two_metres_per_second_and_back() -> None:
     assert out.deployed_length == pytest.approx(4.0, abs=0.1)
     assert _mass_error(plant, 150.0) <= 1e-9
     fem = plant._fem
-    ratio = np.max(fem.rest[:fem.n - 1]) / np.min(fem.rest[:fem.n - 1])
+    ratio = np.max(fem.rest[:fem.elements]) / np.min(fem.rest[:fem.elements])
     assert ratio <= 6.0
     bal = fem.balance()
     assert abs(bal['residual']) < 2e-3 * bal['throughput']  # measured 3.7e-4
 
 
-def _sinusoidal(dt: float, span: float, amplitude: float = 20.0, element_length: float = 1.0) -> TetherPlant:
-    """Spool rate amplitude * sin(pi t) rad/s (0.5 Hz; 0.1 m spool radius), 20 m of tether."""
-    plant = _sagging(dt, element_length=element_length, length=20.0, effects=('drag', 'damping'), damping=1.0)
+def _sinusoidal(dt: float, span: float, amplitude: float = 20.0, element_length: float = 1.0,
+                fidelity: str = 'linear') -> TetherPlant:
+    """Spool rate amplitude * sin(pi t) rad/s (0.5 Hz; 0.1 m spool radius), 20 m of tether (quadratic
+    elements: 0.3 h more, so their reel element, between h / 2 and 1.6 h, splits and merges).
+    """
+    length = 20.0 if fidelity == 'linear' else 20.0 + 0.6 * element_length
+    plant = _sagging(dt, element_length=element_length, length=length, effects=('drag', 'damping'), damping=1.0,
+                     fidelity=fidelity)
     uav = np.array([12.0, 0.0, 8.0])
     plant.step(0.0, PlantInputs(uav_position=uav))
     n = int(round(span / 0.01))
@@ -130,33 +146,39 @@ def _sinusoidal(dt: float, span: float, amplitude: float = 20.0, element_length:
     return plant
 
 
-def test_sinusoidal_payout_conserves_mass_and_closes_the_energy_balance() -> None:
-    plant = _sinusoidal(5e-4, 60.0)
+@pytest.mark.parametrize('fidelity', ['linear', 'quadratic'])
+def test_sinusoidal_payout_conserves_mass_and_closes_the_energy_balance(fidelity: str) -> None:
+    plant = _sinusoidal(5e-4, 60.0, fidelity=fidelity)
     assert _mass_error(plant, 150.0) <= 1e-9
     splits, merges = plant._fem.mesh_events()
     assert splits >= 20 and merges >= 20
     bal = plant._fem.balance()
     assert abs(bal['residual']) < 5e-3 * bal['throughput']  # measured 2.0e-3
     # Halving the step: the balance's residual shrinks (it is time-stepping error).
-    coarse, fine = _sinusoidal(5e-4, 20.0)._fem, _sinusoidal(2.5e-4, 20.0)._fem
+    dt = 5e-4 if fidelity == 'linear' else 4e-4
+    coarse, fine = (_sinusoidal(step, 20.0, fidelity=fidelity)._fem for step in (dt, dt / 2))
     assert abs(fine.balance()['residual']) < 0.6 * abs(coarse.balance()['residual'])
 
 
-def test_sinusoidal_payout_tension_has_no_step_at_splits_and_merges() -> None:
+@pytest.mark.parametrize('fidelity', ['linear', 'quadratic'])
+def test_sinusoidal_payout_tension_has_no_step_at_splits_and_merges(fidelity: str) -> None:
     """1 m/s amplitude on 0.5 m elements (the tether stays taut; at 2 m/s it goes slack near
     the reel and snaps, whose peaks depend on the step for reasons of their own): the largest
     one-step change of the reel tension halves with the step through splits and merges.
     """
-    coarse, fine = (_sinusoidal(dt, 20.0, 10.0, 0.5)._fem for dt in (2.5e-4, 1.25e-4))
+    dt = 2.5e-4 if fidelity == 'linear' else 2e-4
+    coarse, fine = (_sinusoidal(step, 20.0, 10.0, 0.5, fidelity)._fem for step in (dt, dt / 2))
     assert min(coarse.mesh_events()) >= 5
-    assert np.min(coarse.tensions()) > 0.0
+    assert np.min(coarse.end_state()[0]) > 0.0
     assert coarse.largest_reel_tension_step() / fine.largest_reel_tension_step() > 1.6
 
 
-def test_payout_on_a_heaving_and_rolling_boat() -> None:
+@pytest.mark.parametrize('fidelity', ['linear', 'quadratic'])
+def test_payout_on_a_heaving_and_rolling_boat(fidelity: str) -> None:
     """Sea state 4 at the short 5 s period: 2.2 m heave range, +-21.8 deg roll, 1 m/s payout."""
     motion = boat_motion(exit_point=(0.0, 0.0, 0.0))
-    plant = _sagging(5e-4, element_length=1.0, length=20.0, effects=('drag', 'damping'), damping=1.0)
+    plant = _sagging(5e-4, element_length=1.0, length=20.0, effects=('drag', 'damping'), damping=1.0,
+                     fidelity=fidelity)
     uav = np.array([15.0, 0.0, 20.0])
     amp, w = math.radians(21.8), 2 * math.pi / 5.0
     for k in range(0, 601):
@@ -176,12 +198,14 @@ def test_payout_on_a_heaving_and_rolling_boat() -> None:
     assert abs(bal['residual']) < 1e-3 * bal['throughput']  # measured 1.0e-4
 
 
-def test_slow_payout_settles_onto_the_catenary() -> None:
+@pytest.mark.parametrize('fidelity', ['linear', 'quadratic'])
+def test_slow_payout_settles_onto_the_catenary(fidelity: str) -> None:
     """Both ends held, 2 m paid out slowly, then held: the time-averaged UAV tension and
     lowest point of N >= 20 elements match the elastic catenary of the final length.
     """
     uav = np.array([20.0, 0.0, 10.0])
-    plant = _sagging(2e-4, element_length=1.0, length=26.0, effects=('drag', 'damping'), damping=1.0)
+    plant = _sagging(2e-4, element_length=1.0 if fidelity == 'linear' else 0.5, length=26.0,
+                     effects=('drag', 'damping'), damping=1.0, fidelity=fidelity)
     plant.step(0.0, PlantInputs(uav_position=uav))
     tension, low = [], []
     for k in range(1, 1601):
@@ -218,8 +242,10 @@ def test_dynamic_uav_hovers_under_weight_plus_tether_pull() -> None:
     assert np.linalg.norm(out.uav_position - uav) < 0.01
 
 
-def test_unstable_step_and_missing_quadratic_are_refused() -> None:
+def test_unstable_step_and_peer_methods_on_quadratic_elements_are_refused() -> None:
     with pytest.raises(PlantConfigError, match='stable step'):
         _sagging(0.05)
-    with pytest.raises(PlantConfigError, match='quadratic'):
-        TetherPlant(PlantConfig(fidelity='quadratic'))
+    with pytest.raises(PlantConfigError, match='stable step'):
+        TetherPlant(PlantConfig(fidelity='quadratic', dt=1e-3, elements=20, initial_length=20.0))
+    with pytest.raises(PlantConfigError, match='quadratic elements use'):
+        TetherPlant(PlantConfig(fidelity='quadratic', reshape='uniform', dt=1e-4))

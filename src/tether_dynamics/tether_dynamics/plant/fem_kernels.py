@@ -372,23 +372,20 @@ def quadratic_forces(x, v, rest, n, fp, kv_on, u0, tens, tkv, f):
 
 
 @njit(cache=True)
-def quadratic_exit_tension(x, v, rest, fp, kv_on, u0):
-    """Tension of the quadratic reel element at the guide way (zeta = -1), N: EA (|r'| - 1) plus
-    the Kelvin-Voigt term with the material velocity u0 there; zero when slack.
+def quadratic_exit_force(f0, m0, fp, out):
+    """Force of quadratic elements on the guide way, into out, and its size (the exit tension),
+    N: the elements' internal force on node 0 (their Gauss-point tensions extrapolated to
+    zeta = -1, Eq. D.8) less the weight and inertia of node 0's lump (mu l_0 / 6, moving
+    with node 1's acceleration of the last step). The tangent's own length at zeta = -1 is
+    not used: on a curved element it overstates the stretch by about (kappa l_0)^2 / 8.
     """
-    k = 1.0 / rest[0]
-    lam2, rate = 0.0, 0.0
-    for c in range(3):
-        rc = (-3.0 * x[0, c] + 4.0 * x[1, c] - x[2, c]) * k
-        lam2 += rc * rc
-        rate += rc * (-3.0 * u0[c] + 4.0 * v[1, c] - v[2, c]) * k
-    lam = np.sqrt(lam2)
-    if lam <= 1.0:
+    if f0[0] == 0.0 and f0[1] == 0.0 and f0[2] == 0.0:
+        out[:] = 0.0
         return 0.0
-    t = fp[FP_EA] * (lam - 1.0)
-    if kv_on:
-        t += fp[FP_KV] * rate / lam
-    return t if t > 0.0 else 0.0
+    for c in range(3):
+        out[c] = f0[c] - m0 * fp[FP_ACC1 + c]
+    out[2] -= m0 * fp[FP_G]
+    return np.sqrt(out[0] ** 2 + out[1] ** 2 + out[2] ** 2)
 
 
 @njit(cache=True)
@@ -400,57 +397,122 @@ def _quadratic_at(xa, xb, xc, z, out):
 
 
 @njit(cache=True)
+def _reparametrised(xa, xb, xc, l0, zetas, out):
+    """Where on the parabola through xa, xb, xc the material points at ``zetas`` lie if the
+    stretch along the element is the one its quadrature sees (linear through the two Gauss
+    points' stretches): the parameters zeta' (into out) at which the parabola's arc length
+    is that stretch's integral, scaled to the parabola's length. Equal to zetas where the
+    parabola's speed is itself linear (a straight element, a hanging tether); on a coarse,
+    deeply curved element it keeps the new elements' Gauss strains at the old ones instead
+    of exposing the stretch the old quadrature did not see.
+    """
+    m = 256
+    zg = np.linspace(-1.0, 1.0, m + 1)
+    arc = np.zeros(m + 1)
+    believed = np.zeros(m + 1)
+    lam = np.empty(2)
+    for gi in range(2):
+        z = GAUSS[gi]
+        sq = 0.0
+        for c in range(3):
+            d = (z - 0.5) * xa[c] - 2.0 * z * xb[c] + (z + 0.5) * xc[c]
+            sq += d * d
+        lam[gi] = 2.0 * np.sqrt(sq) / l0
+    slope = (lam[1] - lam[0]) / (GAUSS[1] - GAUSS[0])
+    speed_prev, bel_prev = 0.0, 0.0
+    for i in range(m + 1):
+        z = zg[i]
+        sq = 0.0
+        for c in range(3):
+            d = (z - 0.5) * xa[c] - 2.0 * z * xb[c] + (z + 0.5) * xc[c]
+            sq += d * d
+        speed = np.sqrt(sq)
+        bel = max(lam[0] + slope * (z - GAUSS[0]), 1e-3)
+        if i > 0:
+            arc[i] = arc[i - 1] + 0.5 * (speed + speed_prev) * (zg[i] - zg[i - 1])
+            believed[i] = believed[i - 1] + 0.5 * (bel + bel_prev) * (zg[i] - zg[i - 1])
+        speed_prev, bel_prev = speed, bel
+    for k in range(zetas.size):
+        target = np.interp(zetas[k], zg, believed) / believed[m] * arc[m]
+        out[k] = np.interp(target, arc, zg)
+
+
+@njit(cache=True)
 def _split_quadratic(x, v, rest, st, fp, u0):
-    """Cut the quadratic reel element at rest length l_a = l_0 - h from the guide way by exact
-    subdivision: the two new elements are the old element's parabola (positions, and velocities
-    with the material velocity u0 at the guide way) restricted to [-1, zeta_c] and [zeta_c, 1].
-    Shape, strain field and exit tension are unchanged, and so is the momentum: Simpson's rule
-    (the lumps 1/6, 2/3, 1/6) integrates the quadratic velocity field exactly on each piece.
+    """Cut the quadratic reel element at rest length l_a = l_0 - h from the guide way, into
+    two elements on the old element's parabola: the new nodes sit where the material points
+    at zeta_c = 2 l_a / l_0 - 1 and at the two new middles lie (:func:`_reparametrised`:
+    where the old element's stretch is linear, an exact subdivision - shape, strain field and
+    exit force unchanged), with the velocity field there (with the material velocity u0 at
+    the guide way). The momentum of the lumps (Simpson's rule on the velocity field) is then
+    restored exactly by a uniform correction of the three new nodes' velocities.
     """
     n = st[ST_NODES]
     if n + 2 > x.shape[0]:
         st[ST_STATUS] = STATUS_FULL
         return
+    mu = fp[FP_MU]
     l0 = rest[0]
     la = l0 - fp[FP_H]
+    lb = fp[FP_H]
     zc = 2.0 * la / l0 - 1.0
     xa, xb, xc = x[0].copy(), x[1].copy(), x[2].copy()
     va, vb, vc = u0.copy(), v[1].copy(), v[2].copy()
+    w2_old = mu * l0 / 6.0
+    p = np.empty(3)
+    for c in range(3):
+        p[c] = 2.0 / 3.0 * mu * l0 * vb[c] + w2_old * vc[c] + mu * l0 / 6.0 * va[c]
     for i in range(n - 1, 1, -1):
         x[i + 2] = x[i]
         v[i + 2] = v[i]
     for e in range((n - 1) // 2 - 1, 0, -1):
         rest[e + 1] = rest[e]
-    for node, z in ((1, 0.5 * (zc - 1.0)), (2, zc), (3, 0.5 * (zc + 1.0))):
-        _quadratic_at(xa, xb, xc, z, x[node])
-        _quadratic_at(va, vb, vc, z, v[node])
+    material = np.array([0.5 * (zc - 1.0), zc, 0.5 * (zc + 1.0)])
+    where = np.empty(3)
+    _reparametrised(xa, xb, xc, l0, material, where)
+    for node in range(3):
+        _quadratic_at(xa, xb, xc, where[node], x[node + 1])
+        _quadratic_at(va, vb, vc, where[node], v[node + 1])
     rest[0] = la
-    rest[1] = fp[FP_H]
+    rest[1] = lb
+    masses = np.array([2.0 / 3.0 * mu * la, mu * (la + lb) / 6.0, 2.0 / 3.0 * mu * lb])
+    for c in range(3):
+        p_new = mu * la / 6.0 * va[c] + mu * lb / 6.0 * vc[c]
+        for node in range(3):
+            p_new += masses[node] * v[node + 1, c]
+        dv = (p[c] - p_new) / (masses[0] + masses[1] + masses[2])
+        for node in range(3):
+            v[node + 1, c] += dv
     st[ST_NODES] = n + 2
     st[ST_SPLITS] += 1
 
 
 @njit(cache=True)
-def _merge_quadratic(x, v, rest, st, fp, u0):
-    """Join the quadratic reel element (l_0 < MERGE_QUADRATIC h) to its neighbour. The joined element's
-    middle node is placed so the tangent dr/ds at the guide way - the exit direction and the
-    exit strain - is the old one (x_m = (L r'(0) + 3 x_0 + x_4) / 4): the exit tension keeps
-    its elastic part, the material velocity at the guide way is unchanged, and a tether whose
-    shape is one parabola over both elements (a vertical hang) is reproduced exactly. The
-    middle node's velocity keeps the momentum of the lumps involved; mass is exact (L = l_0 + l_1).
+def _merge_quadratic(x, v, rest, st, fp, u0, v0, feed):
+    """Join the quadratic reel element (l_0 < MERGE_QUADRATIC h) to its neighbour. The joined
+    element's middle node is the material point at L / 2 (L = l_0 + l_1, inside the old
+    second element, placed on it by :func:`_reparametrised`): the joined parabola runs through
+    three points of the old shape, so its stretch - and the tension - is the old one to the
+    shape's resolution, and a tether whose shape is one parabola over both elements (a
+    hanging tether) is reproduced exactly. The middle node's velocity keeps the momentum of
+    the lumps involved (node 0's lump with the material velocity at the guide way, before
+    and after); mass is exact.
     """
     n = st[ST_NODES]
     l0, l1 = rest[0], rest[1]
     big = l0 + l1
-    w4 = l1 / 6.0
     p = np.empty(3)
     for c in range(3):
         p[c] = (l0 / 6.0 * u0[c] + 2.0 / 3.0 * l0 * v[1, c] + (l0 + l1) / 6.0 * v[2, c]
-                + 2.0 / 3.0 * l1 * v[3, c] + w4 * v[4, c])
+                + 2.0 / 3.0 * l1 * v[3, c] + l1 / 6.0 * v[4, c])
+    where = np.empty(1)
+    _reparametrised(x[2].copy(), x[3].copy(), x[4].copy(), l1, np.array([2.0 * (0.5 * big - l0) / l1 - 1.0]), where)
+    xm = np.empty(3)
+    _quadratic_at(x[2], x[3], x[4], where[0], xm)
     for c in range(3):
-        tangent = (-3.0 * x[0, c] + 4.0 * x[1, c] - x[2, c]) / l0
-        x[1, c] = 0.25 * (big * tangent + 3.0 * x[0, c] + x[4, c])
-        v[1, c] = (p[c] - big / 6.0 * u0[c] - big / 6.0 * v[4, c]) / (2.0 / 3.0 * big)
+        x[1, c] = xm[c]
+        u_new = v0[c] + feed * (-3.0 * x[0, c] + 4.0 * xm[c] - x[4, c]) / big
+        v[1, c] = (p[c] - big / 6.0 * u_new - big / 6.0 * v[4, c]) / (2.0 / 3.0 * big)
     for i in range(2, n - 2):
         x[i] = x[i + 2]
         v[i] = v[i + 2]
@@ -476,7 +538,7 @@ def advance(x, v, rest, st, fp, rs, rp, g_tab, u_tab, t_a, t_b, n_sub, bs, inert
     tkv = np.zeros(cap)
     r, mesh = np.empty(3), np.zeros(3)
     p0, v0, pf, vf, u0, tan = np.empty(3), np.empty(3), np.empty(3), np.empty(3), np.empty(3), np.empty(3)
-    force_uav = np.empty(3)
+    force_uav, force_reel = np.empty(3), np.empty(3)
     payout = rp[RP_RADIUS] * rs[RS_RATE]
     feed = payout
     for k in range(n_sub):
@@ -506,7 +568,7 @@ def advance(x, v, rest, st, fp, rs, rp, g_tab, u_tab, t_a, t_b, n_sub, bs, inert
                     f[e + 1, c] -= fc
         else:
             quadratic_forces(x, v, rest, n, fp, kv_on, u0, tens, tkv, f)
-            t_exit = quadratic_exit_tension(x, v, rest, fp, kv_on, u0)
+            t_exit = quadratic_exit_force(f[0], lump(rest, n, order, mu, 0), fp, force_reel)
         if np.isfinite(acc[ACC_LAST_T]) and abs(t_exit - acc[ACC_LAST_T]) > acc[ACC_JUMP]:
             acc[ACC_JUMP] = abs(t_exit - acc[ACC_LAST_T])
             acc[ACC_JUMP_T] = t
@@ -643,7 +705,7 @@ def advance(x, v, rest, st, fp, rs, rp, g_tab, u_tab, t_a, t_b, n_sub, bs, inert
         for i in range(1, n - 1):
             for c in range(3):
                 x[i, c] += dt * v[i, c]
-        if order == 2 and method == METHOD_ALE and n > 3:
+        if order == 2 and method == METHOD_ALE:
             for c in range(3):
                 x[1, c] += dt * mesh[c]
         # The mesh follows the deployed length.
@@ -673,7 +735,7 @@ def advance(x, v, rest, st, fp, rs, rp, g_tab, u_tab, t_a, t_b, n_sub, bs, inert
                     fp[FP_OWED] += owed
                     acc[ACC_OWED] += owed
                 else:
-                    _merge_quadratic(x, v, rest, st, fp, u0)
+                    _merge_quadratic(x, v, rest, st, fp, u0, v0, feed)
         elif method == METHOD_INSERT:
             if fp[FP_PENDING] >= h:
                 e_before = energy(x, v, rest, n, fp, order)
@@ -706,9 +768,10 @@ def end_state(x, v, rest, n, fp, order, kv_on, feed, seg, force_reel, force_uav)
     the departing tangent) and on the UAV attachment point (the internal force on the last
     node plus the weight of its lump, which hangs on the UAV). Returns the tensions at the
     guide way and at the UAV, N (linear: the last element's tension carried over the
-    half-element's weight; quadratic: the element's tension at zeta = +1).
+    half-element's weight; quadratic: the size of the force on the UAV).
     """
     mu, g = fp[FP_MU], fp[FP_G]
+    t_end = 0.0
     tan, u0 = np.empty(3), np.empty(3)
     guide_tangent(x, rest, order, tan)
     for c in range(3):
@@ -727,24 +790,20 @@ def end_state(x, v, rest, n, fp, order, kv_on, feed, seg, force_reel, force_uav)
     else:
         tkv = np.zeros(n)
         quadratic_forces(x, v, rest, n, fp, kv_on, u0, tens, tkv, f)
-        t_exit = quadratic_exit_tension(x, v, rest, fp, kv_on, u0)
+        t_exit = quadratic_exit_force(f[0], lump(rest, n, order, mu, 0), fp, force_reel)
         w = 0.5 - np.sqrt(3.0) / 4.0  # zeta = -1/2 between the Gauss points -1/sqrt3 and 1/sqrt3
         for e in range((n - 1) // 2):
             ta, tb = tens[2 * e], tens[2 * e + 1]
             seg[2 * e] = max((1.0 - w) * ta + w * tb, 0.0)
             seg[2 * e + 1] = max(w * ta + (1.0 - w) * tb, 0.0)
-        j, k = n - 3, 1.0 / rest[(n - 1) // 2 - 1]
-        lam2, rate = 0.0, 0.0
-        for c in range(3):
-            rc = (x[j, c] - 4.0 * x[j + 1, c] + 3.0 * x[j + 2, c]) * k
-            lam2 += rc * rc
-            rate += rc * (v[j, c] - 4.0 * v[j + 1, c] + 3.0 * v[j + 2, c]) * k
-        lam = np.sqrt(lam2)
-        t_end = fp[FP_EA] * (lam - 1.0) + (fp[FP_KV] * rate / lam if kv_on else 0.0) if lam > 1.0 else 0.0
-        t_end = max(t_end, 0.0)
-    norm = np.sqrt(tan[0] ** 2 + tan[1] ** 2 + tan[2] ** 2)
     for c in range(3):
-        force_reel[c] = t_exit * tan[c] / norm if norm > 0.0 else 0.0
         force_uav[c] = f[n - 1, c]
     force_uav[2] -= lump(rest, n, order, mu, n - 1) * g
+    if order == 1:
+        norm = np.sqrt(tan[0] ** 2 + tan[1] ** 2 + tan[2] ** 2)
+        for c in range(3):
+            force_reel[c] = t_exit * tan[c] / norm if norm > 0.0 else 0.0
+    else:
+        t_end = np.sqrt(force_uav[0] ** 2 + force_uav[1] ** 2 + force_uav[2] ** 2) if tens[n - 2] > 0.0 else 0.0
     return t_exit, t_end
+
