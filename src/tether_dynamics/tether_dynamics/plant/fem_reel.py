@@ -126,8 +126,13 @@ def _strain_points(rest: np.ndarray, order: int) -> tuple[np.ndarray, np.ndarray
 
 def _lumps(rest: np.ndarray, order: int, mu: float) -> np.ndarray:
     """Lumped node masses, kg (:func:`fem_kernels.lump`)."""
-    n = order * rest.size + 1
-    return np.array([fk.lump(rest, n, order, mu, i) for i in range(n)])
+    out = np.zeros(order * rest.size + 1)
+    share = mu * rest / (2.0 if order == 1 else 6.0)
+    out[:-1:order] += share
+    out[order::order] += share
+    if order == 2:
+        out[1::2] = 2.0 / 3.0 * mu * rest
+    return out
 
 
 def _discrete_equilibrium(x: np.ndarray, rest: np.ndarray, order: int, ea: float, mu: float, g: float,
@@ -342,7 +347,8 @@ class FemTether:
 
     def end_tangents(self) -> tuple[np.ndarray, np.ndarray]:
         """The tether's tangents at the guide way and at the UAV, pointing from the reel
-        towards the UAV (not normalised)."""
+        towards the UAV (not normalised).
+        """
         x, n = self.x, self.n
         if self.order == 1:
             return x[1] - x[0], x[n - 1] - x[n - 2]

@@ -8,7 +8,7 @@ import numpy as np
 
 from tether_dynamics.plant import bodies, quasi_static
 from tether_dynamics.plant.config import PlantConfig
-from tether_dynamics.plant.ends import Sample, hermite, hermite_table, point_on_body, quaternion_rotation
+from tether_dynamics.plant.ends import Sample, cross, hermite, hermite_table, point_on_body, quaternion_rotation
 from tether_dynamics.plant.io import PlantInputs, PlantOutputs
 
 
@@ -51,6 +51,7 @@ class TetherPlant:
         self._command = 0.0
         self._thrust = 0.0
         self._torque = np.zeros(3)
+        self._uav_rotation = quaternion_rotation(np.array([0.0, 0.0, 0.0, 1.0]), 'uav_quaternion')
         self._nodes_prev: np.ndarray | None = None
         self._fem = None
         if cfg.fidelity != 'quasi_static':
@@ -69,6 +70,7 @@ class TetherPlant:
         uav = None
         if self.config.uav.mode == 'prescribed' or self._t is None:
             urot = quaternion_rotation(inputs.uav_quaternion, 'uav_quaternion')
+            self._uav_rotation = urot
             upos = _finite('uav_position', inputs.uav_position, (3,))
             uvel = _finite('uav_velocity', inputs.uav_velocity, (3,))
             uom = urot.apply(_finite('uav_angular_velocity', inputs.uav_angular_velocity, (3,)))
@@ -156,7 +158,7 @@ class TetherPlant:
     def _outputs(self, t: float, inputs: PlantInputs, deck: float) -> PlantOutputs:
         cfg = self.config
         if cfg.uav.mode == 'prescribed':
-            rot = quaternion_rotation(inputs.uav_quaternion, 'uav_quaternion')
+            rot = self._uav_rotation
             upos, uvel = np.asarray(inputs.uav_position, float), np.asarray(inputs.uav_velocity, float)
             uacc, uquat = np.zeros(3), rot.as_quat()
             uom = np.asarray(inputs.uav_angular_velocity, float)
@@ -204,10 +206,11 @@ class TetherPlant:
         kinetic = 0.5 * float(np.sum(lumps * np.sum(vel * vel, axis=1)))
         potential = g * float(np.sum(lumps * nodes[:, 2]))
         strain = float(np.sum(tensions**2 * np.diff(arc) / (2.0 * cfg.ea)))
-        moment = np.cross(end - upos, f_uav)
+        moment = cross(end - upos, f_uav)
         sea = float(inputs.sea_surface_height)
         return PlantOutputs(
-            t=t, fidelity=cfg.fidelity, element_count=self._fem.elements if self._fem is not None else len(nodes) - 1, reel_end=a.copy(), uav_end=end.copy(),
+            t=t, fidelity=cfg.fidelity, element_count=self._fem.elements if self._fem is not None else len(nodes) - 1,
+            reel_end=a.copy(), uav_end=end.copy(),
             deployed_length=length, payout_rate=cfg.reel.spool_radius * float(self._rs[bodies.RS_RATE]),
             spool_angle=float(self._rs[bodies.RS_ANGLE]), spool_rate=float(self._rs[bodies.RS_RATE]),
             reel_torque=float(self._rs[bodies.RS_TORQUE]), at_stop=bool(self._rs[bodies.RS_STOP]),
