@@ -44,10 +44,9 @@ Contract:
 
     Fidelity: 'quasi_static' solves the elastic catenary of the deployed length every internal
     step (:mod:`.quasi_static`); the winch and a dynamic UAV are integrated against its end
-    tensions. 'linear' is the finite-element tether with a moving reel (:mod:`.fem_reel`:
-    the method, the alternatives measured, the stable step). 'quadratic' is refused with a
-    named error: the moving reel has no quadratic elements yet (the fixed-length quadratic
-    FEM of :mod:`tether_dynamics.fem` does not change length).
+    tensions. 'linear' and 'quadratic' are the finite-element tether with a moving reel
+    (:mod:`.fem_reel`: the method for both element orders, the alternatives measured, the
+    stable step). What each costs and how close it comes: ``bench/plant_fidelity``.
 
     Sea surface: ``PlantInputs.sea_surface_height`` is the local wave elevation the scene
     provides (0 without waves); ``clearance_sea`` and ``fouling`` are measured from it.

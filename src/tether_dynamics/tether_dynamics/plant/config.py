@@ -106,9 +106,9 @@ class PlantConfig:
     """Everything a :class:`~tether_dynamics.plant.TetherPlant` needs; see the package docstring.
 
     Attributes:
-        fidelity: 'quasi_static' (elastic catenary solved each step) or 'linear' (finite
-            elements with a moving reel); 'quadratic' is refused by the plant (not implemented
-            for a moving reel).
+        fidelity: 'quasi_static' (elastic catenary solved each step), 'linear' or
+            'quadratic' (finite elements with a moving reel; quadratic elements only with
+            reshape 'ale').
         elements: number of finite elements at the initial deployed length (and the number of
             output points - 1 for the quasi-static fidelity).
         element_length: nominal element rest length h, m; default initial_length / elements.
