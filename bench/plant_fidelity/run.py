@@ -20,7 +20,8 @@ inflate; kernels compiled before timing).
 Snap loads: a 1 kg body hangs on 10 m of tether from a fixed guide way, released 0.51 m
 short of taut (3 m out, 9 m down: the tether slack, on its catenary), so it falls and snaps the tether taut.
 Peak tension over 3 s at N = 10 for linear and quadratic elements, the step halved from
-0.9 x stable three times, without and with the tether's internal (Kelvin-Voigt) damping.
+0.9 x stable three times, without and with the tether's internal (Kelvin-Voigt) damping;
+then with damping at N = 10, 20, 40 and two steps.
 
 Run:  ./tethersim-env python bench/plant_fidelity/run.py [--quick] [--out DIR]
 Writes table.csv, snap.csv, pareto.png, snap.png and summary.txt.
@@ -130,10 +131,10 @@ def _errors(rows: np.ndarray, ref: np.ndarray) -> dict[str, float]:
     return out
 
 
-def snap(fidelity: str, dt_fraction: float, damping: float) -> float:
-    """Peak reel tension (N) of the snap-load drop (see the module docstring)."""
+def snap(fidelity: str, dt_fraction: float, damping: float, elements: int = 10) -> float:
+    """Peak tension (N, either end) of the snap-load drop (see the module docstring)."""
     effects = {'effects': ('damping',), 'damping': damping} if damping > 0.0 else {}
-    base = {'fidelity': fidelity, 'elements': 10, 'initial_length': 10.0, 'guide_way_offset': (0.0, 0.0, 0.0),
+    base = {'fidelity': fidelity, 'elements': elements, 'initial_length': 10.0, 'guide_way_offset': (0.0, 0.0, 0.0),
             'reel': ReelConfig(input='spool_rate', max_length=20.0),
             'uav': UavConfig(mode='dynamic', mass=1.0, attach_offset=(0.0, 0.0, 0.0)), **effects}
     cfg = PlantConfig(dt=dt_fraction * stable_step(PlantConfig(dt=1.0, **base)), **base)
@@ -205,17 +206,27 @@ def main() -> None:
             for halvings in range(4):
                 frac = 0.9 / 2**halvings
                 peak = snap(fidelity, frac, damping)
-                snaps.append({'fidelity': fidelity, 'damping': damping, 'dt_fraction': frac, 'peak_N': peak})
+                snaps.append({'fidelity': fidelity, 'damping': damping, 'dt_fraction': frac, 'peak_N': peak, 'N': 10})
                 print(f'  {fidelity:9s} c {damping:3.1f} N s  dt {frac:.3f} x stable  peak {peak:8.2f} N', flush=True)
     lines.append('Snap load: 1 kg released 0.51 m slack on 10 m, N = 10; peak tension (N) as the step halves '
                  'from 0.9 x stable:')
     for fidelity in ('linear', 'quadratic'):
         for damping in (0.0, 1.0):
-            peaks = [s['peak_N'] for s in snaps if s['fidelity'] == fidelity and s['damping'] == damping]
+            peaks = [s['peak_N'] for s in snaps if s['fidelity'] == fidelity and s['damping'] == damping
+                     and s['N'] == 10]
             spread = max(peaks) / min(peaks)
             change = abs(peaks[-1] - peaks[-2]) / peaks[-1]
             lines.append(f"  {fidelity:9s} c = {damping:.0f} N s: " + ' '.join(f'{p:8.2f}' for p in peaks)
                          + f'   max/min {spread:.2f}, last halving changes it {100 * change:.1f} %')
+    print('[snap loads against N, damped] ...', flush=True)
+    lines.append('Snap load with c = 1 N s against N, peak tension (N) at 0.45 and 0.225 x stable:')
+    for fidelity in ('linear', 'quadratic'):
+        for n in (10, 20, 40):
+            peaks = [snap(fidelity, frac, 1.0, n) for frac in (0.45, 0.225)]
+            snaps.extend({'fidelity': fidelity, 'damping': 1.0, 'dt_fraction': frac, 'peak_N': peak, 'N': n}
+                         for frac, peak in zip((0.45, 0.225), peaks))
+            lines.append(f'  {fidelity:9s} N = {n:2d}: {peaks[0]:8.2f} {peaks[1]:8.2f}   '
+                         f'halving changes it {100 * abs(peaks[1] - peaks[0]) / peaks[1]:.1f} %')
     text = '\n'.join(lines)
     print(text)
     (args.out / 'summary.txt').write_text(text + '\n')
@@ -248,7 +259,7 @@ def main() -> None:
     fig, ax = plt.subplots(figsize=(6, 4))
     for fidelity in ('linear', 'quadratic'):
         for damping in (0.0, 1.0):
-            sel = [s for s in snaps if s['fidelity'] == fidelity and s['damping'] == damping]
+            sel = [s for s in snaps if s['fidelity'] == fidelity and s['damping'] == damping and s['N'] == 10]
             ax.semilogx([s['dt_fraction'] for s in sel], [s['peak_N'] for s in sel], 'o-',
                         label=f'{fidelity}, c = {damping:g} N s')
     ax.set_xlabel('step / stable step')

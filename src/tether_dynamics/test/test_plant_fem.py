@@ -166,7 +166,7 @@ def test_sinusoidal_payout_tension_has_no_step_at_splits_and_merges() -> None:
     """1 m/s amplitude on 0.5 m elements (the tether stays taut; at 2 m/s it goes slack near
     the reel and snaps, whose peaks depend on the step for reasons of their own): the largest
     one-step change of the reel tension halves with the step through splits and merges.
-    (Quadratic elements: test_reel_tension_has_no_step_at_splits_and_merges.)
+    Quadratic elements: test_reel_tension_has_no_step_at_splits_and_merges.
     """
     coarse, fine = (_sinusoidal(dt, 20.0, 10.0, 0.5)._fem for dt in (2.5e-4, 1.25e-4))
     assert min(coarse.mesh_events()) >= 5
