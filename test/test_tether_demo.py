@@ -28,7 +28,7 @@ from tether_bringup.bag_reader import read_bag
 from tether_common.constants import GRAVITY
 from tether_dynamics.statics.catenary import THESIS_LINEAR_DENSITY
 
-from tethersim_testing import bag_payloads
+from tethersim_testing import bag_contents
 from tethersim_testing import busy_cores
 from tethersim_testing import processes_of
 from tethersim_testing import tethersim
@@ -200,8 +200,9 @@ def test_readme_topic_table_is_what_tether_demo_records(run):
 
 
 def test_a_run_at_rate_max_with_every_core_busy_records_the_same_payloads(run, tmp_path):
-    """Lockstep: the same scene and seeds give byte-identical messages, topic by topic, in order, at the same log
-    times, whether paced at real time or run as fast as possible while other processes load every core.
+    """Lockstep: the same scene and seeds give identical messages (every field, bit for bit), topic by topic, in
+    order, at the same log times, whether paced at real time or run as fast as possible while other processes load
+    every core.
     """
     _, out = run
     loaded = tmp_path / 'loaded'
@@ -209,7 +210,7 @@ def test_a_run_at_rate_max_with_every_core_busy_records_the_same_payloads(run, t
         result = tethersim('run', 'tether_demo', '--duration', DURATION, '--rate', 'max', '--out', str(loaded),
                            timeout=300)
     assert result.returncode == 0, result.stdout + result.stderr
-    reference, recorded = bag_payloads(out), bag_payloads(loaded)
+    reference, recorded = bag_contents(out), bag_contents(loaded)
     assert set(recorded) == set(reference) and set(reference) >= set(PLANT_TOPICS) | {'/clock', '/platform/imu'}
     for topic, messages in reference.items():
         assert len(messages) >= 4, topic

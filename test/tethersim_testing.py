@@ -10,6 +10,9 @@ from pathlib import Path
 
 import psutil
 from mcap.reader import make_reader
+from rclpy.serialization import deserialize_message
+
+from tether_common.message_types import message_class
 
 ROOT = Path(__file__).resolve().parent.parent
 SCENES = ROOT / 'test' / 'scenes'
@@ -44,6 +47,22 @@ def bag_payloads(run_dir: Path) -> dict[str, list[tuple[bytes, int]]]:
     with open(run_dir / 'bag' / 'bag_0.mcap', 'rb') as stream:
         for _, channel, message in make_reader(stream).iter_messages(log_time_order=False):
             topics.setdefault(channel.topic, []).append((message.data, message.log_time))
+    return topics
+
+
+def bag_contents(run_dir: Path) -> dict[str, list[tuple[str, int]]]:
+    """Per topic of a run's bag, each message's full content as text, in the order received, with log times.
+
+    The text is the decoded message's ``repr``: every field, floats written so that they read
+    back to the same double (``-0.0`` and ``0.0`` differ). Byte comparison would also compare
+    CDR alignment padding (e.g. the 4 bytes between a sequence's length and its first float64),
+    which the serializer leaves uninitialized: equal messages can differ there.
+    """
+    topics: dict[str, list[tuple[str, int]]] = {}
+    with open(run_dir / 'bag' / 'bag_0.mcap', 'rb') as stream:
+        for schema, channel, message in make_reader(stream).iter_messages(log_time_order=False):
+            decoded = deserialize_message(message.data, message_class(schema.name))
+            topics.setdefault(channel.topic, []).append((repr(decoded), message.log_time))
     return topics
 
 
