@@ -31,6 +31,13 @@ with one reason (:data:`REASONS`):
    and only the jump test applies). With the defaults a fix more than 0.12 m off the
    prediction always fails.
 
+Hold: a fix passed to :meth:`Estimator.step` is kept until the first tick at or after its
+arrival plus ``fix_hold`` (0.02 s, two ticks) and considered then, in arrival order. The
+hold makes a node's result independent of message timing: the sensors publish a fix two
+lockstep rounds before the filter may use it, so it is in whatever the load; a fix that
+still comes later is fused at its time of fix all the same (retrodiction, below). The
+FOH baseline gets the fixes at the same tick as the filter.
+
 Retrodiction: a fix is fused at its time of fix, rounded to the filter tick. The filter
 keeps ``history`` seconds of posteriors, accelerometer inputs and fused fixes per tick;
 a fix for an earlier tick restores that tick's state, is fused there, and the filter is
@@ -89,6 +96,7 @@ class LogicConfig:
     gate_max_std: float = 0.03
     reacquire_after: int = 8
     history: float = 2.0
+    fix_hold: float = 0.02
 
 
 @dataclass
@@ -189,16 +197,19 @@ class Estimator:
         self.suspects: list[Fix] = []
         self.regular_fixes = 0
         self.innovation_var = math.inf
+        self.held: list[Fix] = []
 
     def tick_of(self, t: float) -> int:
         """Filter tick index of time ``t`` (s)."""
         return int(round(t / self.dt))
 
     def step(self, t: float, a_reel: float | None, a_uav: float | None, fixes: list[Fix] = ()) -> Estimate:
-        """Advance to tick ``t``, fuse the IMU inputs and the fixes that arrived; return the estimate.
+        """Advance to tick ``t``, fuse the IMU inputs and the fixes due; return the estimate.
 
         ``a_reel``, ``a_uav``: world-vertical accelerations (m/s^2, gravity removed) of the
-        reel and UAV IMUs at ``t``; None or NaN for a missing or faulty sample.
+        reel and UAV IMUs at ``t``; None or NaN for a missing or faulty sample. ``fixes``:
+        the fixes received since the previous step; each is considered at the first tick at
+        or after its arrival plus ``fix_hold``.
         """
         k = self.tick_of(t)
         rejected = 0
@@ -219,7 +230,11 @@ class Estimator:
         rejections: list[Rejection] = []
         fused: list[Fix] = []
         nis = math.nan
-        for fix in sorted(fixes, key=lambda f: (f.arrival, f.sequence)):
+        self.held.extend(fixes)
+        due = sorted((f for f in self.held if f.arrival + self.logic.fix_hold <= t + 1e-9),
+                     key=lambda f: (f.arrival, f.sequence))
+        self.held = [f for f in self.held if f.arrival + self.logic.fix_hold > t + 1e-9]
+        for fix in due:
             outcome = self._consider(fix)
             if isinstance(outcome, Rejection):
                 rejections.append(outcome)

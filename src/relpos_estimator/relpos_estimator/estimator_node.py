@@ -1,11 +1,14 @@
 """ROS 2 node ``estimator``: the relative-altitude Kalman filter with the dGPS message logic.
 
-A thin wrapper around :class:`relpos_estimator.estimator.Estimator`. It buffers
-``/imu/reel``, ``/imu/uav`` (sensor_msgs/Imu) and ``/dgps/fix`` (tether_msgs/DgpsFix) by
-their stamps and runs filter tick t once a reel IMU sample stamped t + ``input_delay`` or
-later has arrived (the sensors publish a tick's fixes with its IMU samples, so by then
-they are in), with the IMU samples stamped t (a missing or non-finite one is skipped and
-flagged) and the fixes whose arrival stamp lies in (t - dt, t]. It publishes, stamped t:
+A thin wrapper around :class:`relpos_estimator.estimator.Estimator`, in lockstep
+(:mod:`tether_common.lockstep`). ``/imu/reel`` and ``/imu/uav`` (sensor_msgs/Imu) are
+declared inputs with the filter's period and the delay ``input_delay`` (one period: the
+sensors node publishes the samples of t one tick later), so tick t runs the filter at
+t - ``input_delay`` with the samples stamped then (a missing or non-finite one is skipped
+and flagged). ``/dgps/fix`` (tether_msgs/DgpsFix) is not periodic: every fix received is
+handed to the core, which considers it ``fix_hold`` after its arrival stamp (a fix that
+reaches the node after that is logged; the core still fuses it at its time of fix). It
+publishes, stamped with the filter's time:
 
 * ``/estimate/relative`` (tether_msgs/RelativeEstimate, reliable) every tick,
 * ``/estimate/foh`` (RelativeEstimate: dz and dz_rate of the first-order hold of the
@@ -35,14 +38,16 @@ from relpos_estimator.estimator_params import configs
 from relpos_estimator.messages import fix_from_message
 from relpos_estimator.messages import imu_vertical
 from relpos_estimator.messages import stamp_ns
-from relpos_estimator.sensors_node import SENSOR_INPUT
+from relpos_estimator.sensors_node import STATE_INPUT
 from relpos_estimator.sensors_node import to_stamp
-from tether_common.node_main import ConfigurationError
-from tether_common.node_main import run_node
-from tether_common.qos import STATE
-from tether_common.ros_parameters import declare_parameters
+from tether_common.lockstep import Input
 from tether_common.lockstep import Lockstep
 from tether_common.lockstep import Tick
+from tether_common.node_main import ConfigurationError
+from tether_common.node_main import run_node
+from tether_common.qos import LOOP
+from tether_common.qos import STATE
+from tether_common.ros_parameters import declare_parameters
 
 
 class EstimatorNode(Node):
@@ -56,60 +61,41 @@ class EstimatorNode(Node):
         except ValueError as error:
             raise ConfigurationError(str(error)) from None
         self.estimator = Estimator(covariances, logic, params['rate'], 1.0 / params['dgps_rate'])
-        self.period_ns = round(1e9 / params['rate'])
+        self.period = 1.0 / params['rate']
         self.delay_ns = round(params['input_delay'] * 1e9)
-        self.reel: dict[int, float] = {}
-        self.uav: dict[int, float] = {}
+        self.started = False
         self.fixes: list[Fix] = []
-        self.next_ns: int | None = None
-        self.newest_ns: int | None = None
-        self.create_subscription(Imu, '/imu/reel', lambda m: self.on_imu(self.reel, m), SENSOR_INPUT)
-        self.create_subscription(Imu, '/imu/uav', lambda m: self.on_imu(self.uav, m), SENSOR_INPUT)
-        self.create_subscription(DgpsFix, '/dgps/fix', self.on_fix, SENSOR_INPUT)
-        self.estimate_pub = self.create_publisher(RelativeEstimate, '/estimate/relative', STATE)
+        self.create_subscription(DgpsFix, '/dgps/fix', self.on_fix, STATE_INPUT)
+        self.estimate_pub = self.create_publisher(RelativeEstimate, '/estimate/relative', LOOP)
         self.foh_pub = self.create_publisher(RelativeEstimate, '/estimate/foh', STATE)
         self.rejection_pub = self.create_publisher(FixRejection, '/estimate/rejections', STATE)
         self.lockstep = Lockstep(self)
-        self.lockstep.every(self.period_ns * 1e-9, self.on_tick)
-
-    def on_imu(self, buffer: dict[int, float], msg: Imu) -> None:
-        """Keep an IMU sample's vertical acceleration by stamp."""
-        t_ns = stamp_ns(msg.header.stamp)
-        buffer[t_ns] = imu_vertical(msg)
-        if buffer is self.reel:
-            self.newest_ns = t_ns if self.newest_ns is None else max(self.newest_ns, t_ns)
-            self.filter(self.lockstep.clock_ns)
+        self.lockstep.every(self.period, self.on_tick, [
+            Input('/imu/reel', Imu, self.period, params['input_delay']),
+            Input('/imu/uav', Imu, self.period, params['input_delay'])])
 
     def on_fix(self, msg: DgpsFix) -> None:
-        """Keep a fix until the filter reaches its arrival stamp."""
+        """Keep a fix for the next filter tick."""
         self.fixes.append(fix_from_message(msg))
 
     def on_tick(self, tick: Tick) -> None:
-        """Filter up to the tick."""
-        self.filter(tick.time_ns)
-
-    def filter(self, until_ns: int) -> None:
-        """Run every filter tick up to ``until_ns`` and the newest reel IMU stamp minus the input delay.
-
-        Called at each lockstep tick and as reel IMU samples arrive (up to the latest ``/clock``),
-        so that an estimate a consumer waits for by stamp comes once its samples are in.
-        """
-        if self.newest_ns is None:
+        """Run the filter at the tick's time minus the input delay, from the first reel IMU sample on."""
+        t_ns = tick.time_ns - self.delay_ns
+        samples = [tick.inputs[topic] for topic in ('/imu/reel', '/imu/uav')]
+        reel, uav = (imu_vertical(m) if m is not None and stamp_ns(m.header.stamp) == t_ns else None
+                     for m in samples)
+        if not self.started and reel is None:
             return
-        if self.next_ns is None:
-            self.next_ns = min(self.reel)
-        target = min(self.newest_ns - self.delay_ns, until_ns)
-        while self.next_ns <= target:
-            t_ns = self.next_ns
-            t = t_ns * 1e-9
-            due = [f for f in self.fixes if f.arrival <= t + 1e-9]
-            self.fixes = [f for f in self.fixes if f.arrival > t + 1e-9]
-            estimate = self.estimator.step(t, self.reel.pop(t_ns, None), self.uav.pop(t_ns, None), due)
-            self.publish(t_ns, estimate)
-            self.next_ns += self.period_ns
-            for buffer in (self.reel, self.uav):
-                for key in [key for key in buffer if key < self.next_ns]:
-                    del buffer[key]
+        self.started = True
+        t = t_ns * 1e-9
+        hold = self.estimator.logic.fix_hold
+        for fix in self.fixes:
+            if fix.arrival + hold < t - self.period:
+                self.get_logger().warning(f'fix {fix.sequence} (arrival {fix.arrival:.3f} s) reached the node at '
+                                          f'{t:.2f} s, after its hold of {hold:g} s: fused at its time of fix')
+        estimate = self.estimator.step(t, reel, uav, self.fixes)
+        self.fixes = []
+        self.publish(t_ns, estimate)
 
     def publish(self, t_ns: int, est: Estimate) -> None:
         """Publish the estimate, the FOH baseline and the rejections of one tick."""

@@ -1,17 +1,36 @@
 """Parameters of the estimator node (no rclpy import; the bringup validates scenes with them).
 
-The covariance defaults are the thesis's Twiddle-tuned values (Sec. 6.2), used as the
-diagonal entries of Q and R (see :mod:`relpos_estimator.kalman`); ``tethersim estimator
-tune`` writes a parameter file with retuned ones.
+The covariances are the diagonal entries of Q and R (see :mod:`relpos_estimator.kalman`).
+Their defaults are read from the package's tuned parameter file
+``share/relpos_estimator/config/estimator.yaml``, written by ``tethersim estimator tune``
+on the tuning recordings (HPR #1, #2, heave-only; bags/README.md); the thesis's tuned
+values (Sec. 6.2) are :class:`~relpos_estimator.kalman.Covariances`' defaults.
 """
 
 from __future__ import annotations
+
+from pathlib import Path
+
+import yaml
+from ament_index_python.packages import get_package_share_directory
 
 from relpos_estimator.estimator import LogicConfig
 from relpos_estimator.kalman import Covariances
 from tether_common.parameters import ParamSpec
 
-_C = Covariances()
+
+def tuned_file() -> Path:
+    """The installed tuned parameter file of the estimator."""
+    return Path(get_package_share_directory('relpos_estimator')) / 'config' / 'estimator.yaml'
+
+
+def _tuned() -> Covariances:
+    section = yaml.safe_load(tuned_file().read_text(encoding='utf-8'))['/**']['ros__parameters']
+    return Covariances(**{name: float(section[name]) for name in Covariances.names()})
+
+
+_C = _tuned()
+_THESIS = Covariances()
 _L = LogicConfig()
 
 _UNITS = {'sigma_z': 'm^2', 'sigma_zdot': '(m/s)^2', 'sigma_zddot': '(m/s^2)^2', 'sigma_mu1': '(m/s^2)^2',
@@ -22,10 +41,15 @@ PARAMETERS: tuple[ParamSpec, ...] = (
               low=1.0, high=1000.0, read_only=True),
     ParamSpec('dgps_rate', 4.0, 'nominal dGPS rate (sets the fix period of the jump limit)', 'Hz',
               low=0.1, high=100.0, read_only=True),
-    ParamSpec('input_delay', 0.05, 'the filter runs tick t once a reel IMU sample this much newer is in, so '
-              'that the fixes that arrived by t are in too', 's', low=0.0, high=5.0, read_only=True),
-    *(ParamSpec(name, float(getattr(_C, name)), f'{name}: diagonal entry of Q or R (Eq. 4.7, 4.9), tuned value '
-                'of Sec. 6.2 by default', _UNITS[name], low=1e-30, high=1e12, read_only=True)
+    ParamSpec('input_delay', 0.01, 'delay of the IMU inputs: tick t filters the samples stamped t - input_delay '
+              '(the sensors node publishes a tick\'s samples one tick later)', 's', low=0.0, high=5.0,
+              read_only=True),
+    ParamSpec('fix_hold', _L.fix_hold, 'a fix is considered this long after its arrival stamp (so that it has '
+              'reached the node whatever the load; it is fused at its time of fix)', 's', low=0.0, high=1.0,
+              read_only=True),
+    *(ParamSpec(name, float(getattr(_C, name)), f'{name}: diagonal entry of Q or R (Eq. 4.7, 4.9); default '
+                f'tuned by tethersim estimator tune (config/estimator.yaml), thesis Sec. 6.2: '
+                f'{getattr(_THESIS, name):g}', _UNITS[name], low=1e-30, high=1e12, read_only=True)
       for name in Covariances.names()),
     ParamSpec('min_status', _L.min_status, 'lowest DgpsFix status fused (4: RTK fixed)', low=0, high=4,
               read_only=True),
@@ -54,7 +78,8 @@ def configs(params: dict) -> tuple[Covariances, LogicConfig]:
     logic = LogicConfig(min_status=params['min_status'], clock_tolerance=params['clock_tolerance'],
                         max_age=params['max_age'], max_jump=params['max_jump'], max_speed=params['max_speed'],
                         gate_chi2=params['gate_chi2'], gate_max_std=params['gate_max_std'],
-                        reacquire_after=params['reacquire_after'], history=params['history'])
+                        reacquire_after=params['reacquire_after'], history=params['history'],
+                        fix_hold=params['fix_hold'])
     if logic.history < logic.max_age:
         raise ValueError(f'history {logic.history} s is shorter than max_age {logic.max_age} s')
     return cov, logic

@@ -4,7 +4,9 @@
 ``/truth/relative`` and ``/sensors/faults`` of a bag with the same conversions the
 estimator node applies (:mod:`relpos_estimator.messages`); :func:`replay` steps
 :class:`~relpos_estimator.estimator.Estimator` over every reel-IMU tick exactly as the node
-does (IMU samples by stamp, fixes by arrival stamp). :func:`score` gives the Table 6.1
+does (IMU samples by stamp, fixes handed over at their arrival stamp, which the core holds
+for ``fix_hold``), and :func:`read_outputs` reads what the node itself published when the
+recording was replayed to it (``tethersim replay``). :func:`score` gives the Table 6.1
 figures against the recorded truth and, per fault kind, how many were injected, rejected
 and fused and the largest shift of the estimate they caused: the run is repeated with the
 kind's faulty dGPS messages replaced by clean ones carrying the fault's ground truth (a
@@ -93,12 +95,26 @@ def read_recording(bag: Path) -> Recording:
     return rec
 
 
-def replay(rec: Recording, estimator: Estimator, fixes: list[Fix] | None = None) -> dict[int, tuple]:
-    """Step ``estimator`` over every reel-IMU tick; return {stamp: (dz, foh, initialized)}."""
+@dataclass
+class Outputs:
+    """What the estimator produced over a recording, by filter tick."""
+
+    ticks: dict[int, tuple[float, float, bool]]
+    """stamp (ns) -> (filter dz, FOH dz, initialized)."""
+    rejected: Counter
+    """(sequence, time of fix in ns) -> how many fixes with that key were rejected."""
+
+
+def _key(sequence: int, fix_time: float) -> tuple[int, int]:
+    return sequence, int(round(fix_time * 1e9))
+
+
+def replay(rec: Recording, estimator: Estimator, fixes: list[Fix] | None = None) -> Outputs:
+    """Step ``estimator`` over every reel-IMU tick as the node does; fixes are handed over at their arrival."""
     pending = sorted(rec.fixes if fixes is None else fixes, key=lambda f: (f.arrival, f.sequence))
     period = int(round(estimator.dt * 1e9))
     first, last = min(rec.reel), max(rec.reel)
-    out = {}
+    out = Outputs({}, Counter())
     i = 0
     for t_ns in range(first, last + 1, period):
         t = t_ns * 1e-9
@@ -107,16 +123,45 @@ def replay(rec: Recording, estimator: Estimator, fixes: list[Fix] | None = None)
             due.append(pending[i])
             i += 1
         est = estimator.step(t, rec.reel.get(t_ns), rec.uav.get(t_ns), due)
-        out[t_ns] = (float(est.x[0]), est.foh, est.initialized, est)
+        out.ticks[t_ns] = (float(est.x[0]), est.foh, est.initialized)
+        for r in est.rejections:
+            out.rejected[_key(r.sequence, r.fix_time)] += 1
     return out
 
 
-def errors(rec: Recording, run: dict[int, tuple]) -> dict[str, np.ndarray]:
-    """Filter and FOH errors (m) at the ticks with truth and an initialized estimate."""
-    stamps = [t for t in sorted(run) if t in rec.truth and run[t][2] and math.isfinite(run[t][1])]
+def read_outputs(bag: Path) -> Outputs:
+    """The estimator node's outputs recorded in a bag (``/estimate/relative``, ``/estimate/foh``, rejections)."""
+    path = Path(bag)
+    if (path / 'bag').is_dir():
+        path = path / 'bag'
+    estimate, foh = {}, {}
+    out = Outputs({}, Counter())
+    topics = ('/estimate/relative', '/estimate/foh', '/estimate/rejections')
+    try:
+        with AnyReader([path]) as reader:
+            connections = [c for c in reader.connections if c.topic in topics]
+            for connection, _, raw in reader.messages(connections=connections):
+                m = reader.deserialize(raw, connection.msgtype)
+                if connection.topic == '/estimate/rejections':
+                    out.rejected[(m.sequence, stamp_ns(m.fix_time))] += 1
+                else:
+                    (estimate if connection.topic == '/estimate/relative' else foh)[stamp_ns(m.header.stamp)] = m
+    except (AnyReaderError, FileNotFoundError) as error:
+        raise ValueError(f'{bag}: cannot read the bag: {error}') from None
+    if not estimate:
+        raise ValueError(f'{bag}: no /estimate/relative messages')
+    for t_ns, m in estimate.items():
+        out.ticks[t_ns] = (m.dz, foh[t_ns].dz if t_ns in foh else math.nan, m.initialized)
+    return out
+
+
+def errors(rec: Recording, run: Outputs) -> dict[str, np.ndarray]:
+    """Filter and FOH errors (m) at the ticks with truth and an initialized estimate and FOH."""
+    ticks = run.ticks
+    stamps = [t for t in sorted(ticks) if t in rec.truth and ticks[t][2] and math.isfinite(ticks[t][1])]
     truth = np.array([rec.truth[t] for t in stamps])
-    return {'t': np.array(stamps) * 1e-9, 'filter': np.array([run[t][0] for t in stamps]) - truth,
-            'foh': np.array([run[t][1] for t in stamps]) - truth}
+    return {'t': np.array(stamps) * 1e-9, 'filter': np.array([ticks[t][0] for t in stamps]) - truth,
+            'foh': np.array([ticks[t][1] for t in stamps]) - truth}
 
 
 def counterfactual_fixes(rec: Recording, kind: str) -> list[Fix]:
@@ -156,33 +201,34 @@ class Score:
     """kind -> (injected, rejected, fused, largest estimate shift in m)."""
 
 
-def score(rec: Recording, make_estimator, counterfactuals: bool = True) -> Score:
-    """Run ``make_estimator()`` over the recording and score it (see the module docstring)."""
-    run = replay(rec, make_estimator())
+def score(rec: Recording, run: Outputs, make_estimator, counterfactuals: bool = True) -> Score:
+    """Score the estimator's outputs ``run`` on the recording (see the module docstring).
+
+    A faulty message counts as rejected when the estimator rejected it and as fused when it
+    was considered (arrival plus the hold before the last tick) and not rejected; the
+    shifts come from runs of ``make_estimator()`` with the counterfactual fixes.
+    """
     e = errors(rec, run)
     if e['t'].size == 0:
         raise ValueError(f'{rec.name}: the estimator never initialized')
-    rejected = Counter()
-    fused = set()
-    for value in run.values():
-        est = value[3]
-        for r in est.rejections:
-            rejected[(r.sequence, r.fix_time)] += 1
-        for f in est.fused:
-            fused.add((f.sequence, f.fix_time))
+    last = max(run.ticks) * 1e-9
+    hold = make_estimator().logic.fix_hold
     table: dict[str, tuple[int, int, int, float]] = {}
     for kind in sorted({f.kind for f in rec.faults}):
         faults = [f for f in rec.faults if f.kind == kind]
         if faults[0].sensor != 'dgps':
             table[f'{faults[0].sensor}:{kind}'] = (len(faults), len(faults), 0, math.nan)
             continue
-        messages = [x for x in rec.fixes if x.sequence in {f.sequence for f in faults}]
-        n_rejected = sum(1 for x in messages if (x.sequence, x.fix_time) in rejected)
-        n_fused = sum(1 for x in messages if (x.sequence, x.fix_time) in fused)
+        sequences = {f.sequence for f in faults}
+        messages = Counter(_key(x.sequence, x.fix_time) for x in rec.fixes
+                           if x.sequence in sequences and x.arrival + hold <= last + 1e-9)
+        n_rejected = sum(min(n, run.rejected[key]) for key, n in messages.items())
+        n_fused = sum(messages.values()) - n_rejected
         shift = math.nan
         if counterfactuals:
-            other = replay(rec, make_estimator(), counterfactual_fixes(rec, kind))
-            shift = max(abs(run[t][0] - other[t][0]) for t in run if run[t][2] and other[t][2])
+            other = replay(rec, make_estimator(), counterfactual_fixes(rec, kind)).ticks
+            shift = max(abs(dz - other[t][0]) for t, (dz, _, ok) in run.ticks.items()
+                        if ok and t in other and other[t][2])
         table[kind] = (len(faults), n_rejected, n_fused, shift)
     return Score(rec.name, float(e['t'][-1] - e['t'][0]), float(np.mean(np.abs(e['filter']))),
                  float(np.sqrt(np.mean(e['filter'] ** 2))), float(np.mean(np.abs(e['foh']))),

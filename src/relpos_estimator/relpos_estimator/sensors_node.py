@@ -19,10 +19,14 @@ Outputs, all stamped by the truth's stamps, never by arrival:
 * ``/truth/relative`` (reliable) with ``truth: surrogate`` only: the truth the sensors used
   so that a run's bag holds what the estimate is scored against.
 
-Ticks are processed in order once all their inputs are in, however late they arrive; a
-tick whose input can no longer come (its stream has delivered later stamps: each
-publisher keeps its order) is skipped - its IMU samples are missing, which the estimator
-handles - and logged.
+The node ticks in lockstep (:mod:`tether_common.lockstep`): its inputs are declared with
+the producers' period, the node's own (``rate``: the platform's and the plant's
+state rate), and no delay, so tick t has the reel pose, the
+platform state and (``truth: plant``) the relative position stamped t. The central
+difference needs the pose of t + dt, so tick t simulates the sensors at t - dt (the
+platform rests at its first pose before its first message): every
+output of tick t is stamped t - dt or earlier (a consumer declares a delay of one period).
+The fixes of a tick are published before its IMU samples.
 """
 
 from __future__ import annotations
@@ -55,18 +59,16 @@ from relpos_estimator.sensors_params import PARAMETERS
 from relpos_estimator.sensors_params import configs
 from tether_common.node_main import ConfigurationError
 from tether_common.node_main import run_node
+from tether_common.lockstep import Input
+from tether_common.lockstep import Lockstep
+from tether_common.lockstep import Tick
 from tether_common.qos import SENSOR
 from tether_common.qos import STATE
 from tether_common.ros_parameters import declare_parameters
-from tether_common.lockstep import Lockstep
-from tether_common.lockstep import Tick
-
 
 INPUT_DEPTH = 1000
-"""Subscription history: a node that falls behind for a few seconds of sim time loses nothing."""
+"""Subscription history of the unpaced inputs (fixes) and of test probes: nothing is lost while a consumer lags."""
 STATE_INPUT = QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=INPUT_DEPTH, reliability=ReliabilityPolicy.RELIABLE)
-SENSOR_INPUT = QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=INPUT_DEPTH,
-                          reliability=ReliabilityPolicy.BEST_EFFORT)
 
 
 def to_stamp(seconds: float) -> TimeMsg:
@@ -91,12 +93,10 @@ class SensorsNode(Node):
         self.poses: dict[int, tuple[np.ndarray, np.ndarray]] = {}
         self.sliders: dict[int, np.ndarray] = {}
         self.relative: dict[int, tuple[np.ndarray, np.ndarray]] = {}
-        self.next_ns: int | None = None
-        self.skipped = 0
-        self.create_subscription(PoseStamped, '/platform/reel_pose', self.on_pose, STATE_INPUT)
-        self.create_subscription(PlatformState, '/platform/state', self.on_state, STATE_INPUT)
+        inputs = [Input('/platform/reel_pose', PoseStamped, self.dt),
+                  Input('/platform/state', PlatformState, self.dt)]
         if self.params['truth'] == 'plant':
-            self.create_subscription(RelativePosition, '/truth/relative', self.on_relative, STATE_INPUT)
+            inputs.append(Input('/truth/relative', RelativePosition, self.dt))
             self.truth_pub = None
         else:
             self.truth_pub = self.create_publisher(RelativePosition, '/truth/relative', STATE)
@@ -105,64 +105,34 @@ class SensorsNode(Node):
         self.fix_pub = self.create_publisher(DgpsFix, '/dgps/fix', SENSOR)
         self.fault_pub = self.create_publisher(SensorFault, '/sensors/faults', STATE)
         self.lockstep = Lockstep(self)
-        self.lockstep.every(self.dt, self.on_tick)
-
-    def on_pose(self, msg: PoseStamped) -> None:
-        """Keep the reel pose by stamp."""
-        p, q = msg.pose.position, msg.pose.orientation
-        self.poses[stamp_ns(msg.header.stamp)] = (np.array([p.x, p.y, p.z]), np.array([q.x, q.y, q.z, q.w]))
-        self.simulate(self.lockstep.clock_ns)
-
-    def on_state(self, msg: PlatformState) -> None:
-        """Keep the slider speeds by stamp."""
-        self.sliders[stamp_ns(msg.header.stamp)] = np.array(msg.slider_velocity, dtype=float)
-        self.simulate(self.lockstep.clock_ns)
-
-    def on_relative(self, msg: RelativePosition) -> None:
-        """Keep the true relative position and acceleration by stamp."""
-        p, a = msg.position, msg.acceleration
-        self.relative[stamp_ns(msg.header.stamp)] = (np.array([p.x, p.y, p.z]), np.array([a.x, a.y, a.z]))
-        self.simulate(self.lockstep.clock_ns)
+        self.lockstep.every(self.dt, self.on_tick, inputs)
 
     def on_tick(self, tick: Tick) -> None:
-        """Simulate up to the tick."""
-        self.simulate(tick.time_ns)
-
-    def simulate(self, until_ns: int) -> None:
-        """Simulate, in order, every tick up to ``until_ns`` whose inputs are in; skip one whose inputs can no
-        longer come. Called at each lockstep tick and as inputs arrive (up to the latest ``/clock``), so that
-        outputs a consumer waits for by stamp come once their inputs are in, without waiting for the next tick.
-        """
-        if self.next_ns is None:
-            if not self.poses:
-                return
-            self.next_ns = min(self.poses) + self.period_ns
-        while self.next_ns + self.period_ns <= until_ns:
-            t_ns = self.next_ns
-            truth = self.truth(t_ns)
-            if truth is None:
-                if not self.passed(t_ns):
-                    return
-                self.skipped += 1
-                self.get_logger().warning(f'tick {t_ns * 1e-9:.2f} s skipped: truth inputs lost: '
-                                          f'{", ".join(self.missing(t_ns))} ({self.skipped} so far)')
-            else:
-                self.publish_truth(t_ns, truth)
-                self.publish(self.suite.step(t_ns * 1e-9, truth))
-            self.next_ns += self.period_ns
-            self.forget(t_ns - 2 * self.period_ns)
-
-    def passed(self, t_ns: int) -> bool:
-        """True when every input stream has delivered a later stamp than tick ``t_ns`` needs (publishers keep order)."""
-        streams = [(self.poses, t_ns + self.period_ns), (self.sliders, t_ns)]
-        if self.params['truth'] == 'plant':
-            streams.append((self.relative, t_ns))
-        return all(buffer and max(buffer) > needed for buffer, needed in streams)
+        """Keep tick t's inputs by stamp and simulate the sensors at t - dt once its truth is complete."""
+        pose = tick.inputs['/platform/reel_pose']
+        if pose is not None:
+            p, q = pose.pose.position, pose.pose.orientation
+            self.poses[stamp_ns(pose.header.stamp)] = (np.array([p.x, p.y, p.z]), np.array([q.x, q.y, q.z, q.w]))
+        state = tick.inputs['/platform/state']
+        if state is not None:
+            self.sliders[stamp_ns(state.header.stamp)] = np.array(state.slider_velocity, dtype=float)
+        relative = tick.inputs.get('/truth/relative')
+        if relative is not None:
+            p, a = relative.position, relative.acceleration
+            self.relative[stamp_ns(relative.header.stamp)] = (np.array([p.x, p.y, p.z]), np.array([a.x, a.y, a.z]))
+        t_ns = tick.time_ns - self.period_ns
+        truth = self.truth(t_ns)
+        if truth is not None:
+            self.publish_truth(t_ns, truth)
+            self.publish(self.suite.step(t_ns * 1e-9, truth))
+        self.forget(t_ns - self.period_ns)
 
     def truth(self, t_ns: int) -> Truth | None:
         """Ground truth at ``t_ns`` from the buffered inputs, or None if one is missing."""
         d = self.period_ns
         poses = [self.poses.get(t_ns + k * d) for k in (-1, 0, 1)]
+        if poses[0] is None and self.poses and t_ns == min(self.poses):
+            poses[0] = poses[1]  # before its first message the platform rests at its first pose (profile ramp)
         slider = self.sliders.get(t_ns)
         if any(p is None for p in poses) or slider is None:
             return None
@@ -183,15 +153,6 @@ class SensorsNode(Node):
         return Truth(rotations[1].as_matrix(), angular_velocity, acceleration, rel_position, rel_acceleration,
                      slider, rel_velocity)
 
-    def missing(self, t_ns: int) -> list[str]:
-        """Names of the inputs tick ``t_ns`` still lacks."""
-        d = self.period_ns
-        names = [f'/platform/reel_pose at {(t_ns + k * d) * 1e-9:.2f} s' for k in (-1, 0, 1)
-                 if t_ns + k * d not in self.poses]
-        names += ['/platform/state'] if t_ns not in self.sliders else []
-        names += ['/truth/relative'] if self.params['truth'] == 'plant' and t_ns not in self.relative else []
-        return names
-
     def forget(self, before_ns: int) -> None:
         """Drop buffered inputs older than ``before_ns``."""
         for buffer in (self.poses, self.sliders, self.relative):
@@ -211,9 +172,7 @@ class SensorsNode(Node):
         self.truth_pub.publish(msg)
 
     def publish(self, out: SuiteOutput) -> None:
-        """Publish one tick's IMU samples, arrived fixes and faults."""
-        self.reel_pub.publish(imu_message(out.reel, 'boat', self.suite.reel_imu.spec))
-        self.uav_pub.publish(imu_message(out.uav, 'uav', self.suite.uav_imu.spec))
+        """Publish one tick's arrived fixes, faults and IMU samples (the fixes first)."""
         for fix in out.fixes:
             msg = DgpsFix()
             msg.header.stamp = to_stamp(fix.arrival)
@@ -237,6 +196,8 @@ class SensorsNode(Node):
             msg.truth.x, msg.truth.y, msg.truth.z = (float(v) for v in fault.truth)
             msg.reported.x, msg.reported.y, msg.reported.z = (float(v) for v in fault.reported)
             self.fault_pub.publish(msg)
+        self.reel_pub.publish(imu_message(out.reel, 'boat', self.suite.reel_imu.spec))
+        self.uav_pub.publish(imu_message(out.uav, 'uav', self.suite.uav_imu.spec))
 
 
 def imu_message(sample: ImuSample, frame: str, spec: ImuSpec) -> Imu:

@@ -5,7 +5,6 @@ from __future__ import annotations
 from pathlib import Path
 
 import numpy as np
-import pytest
 import yaml
 
 from relpos_estimator.cli import main
@@ -14,6 +13,7 @@ from relpos_estimator.twiddle import twiddle
 
 BAGS = Path(__file__).resolve().parents[3] / 'bags'
 HPR3 = BAGS / 'estimator-hpr3-40s'
+STILL = BAGS / 'estimator-still-40s'
 
 
 def test_twiddle_finds_the_minimum_of_a_bowl_and_keeps_parameters_positive():
@@ -29,19 +29,45 @@ def test_twiddle_finds_the_minimum_of_a_bowl_and_keeps_parameters_positive():
     assert best < 0.01 and rounds > 1
 
 
-@pytest.mark.skipif(not HPR3.is_dir(), reason='reference bag missing: run bags/record-estimator-bags.sh')
+def _table(text: str) -> list[str]:
+    """The lines of an evaluate output that hold numbers (rows, faults, checks), without the source line."""
+    return [line for line in text.splitlines() if line.startswith(('estimator-', 'PASS', 'FAIL'))]
+
+
 def test_evaluate_gives_the_same_table_every_time(tmp_path, capsys):
     assert main(['evaluate', str(HPR3), '--out', str(tmp_path / 'a')]) == 0
     first = capsys.readouterr().out
     assert main(['evaluate', str(HPR3), '--out', str(tmp_path / 'b')]) == 0
     assert capsys.readouterr().out.replace(str(tmp_path / 'b'), '') == first.replace(str(tmp_path / 'a'), '')
-    row = next(line for line in first.splitlines() if line.startswith('estimator-hpr3-40s'))
+    row = next(line for line in first.splitlines() if line.startswith('estimator-hpr3-40s '))
     filter_rmse, foh_rmse = float(row.split()[3]), float(row.split()[5])
     assert filter_rmse < 0.5 * foh_rmse
+    assert 'FAIL' not in first
     assert (tmp_path / 'a' / 'evaluate.png').stat().st_size > 0
 
 
-@pytest.mark.skipif(not HPR3.is_dir(), reason='reference bag missing: run bags/record-estimator-bags.sh')
+def test_replay_through_the_node_gives_the_numbers_of_the_direct_run(tmp_path, capsys):
+    """The estimator node behind tethersim replay publishes exactly what the core gives on the decoded messages."""
+    from relpos_estimator.cli import _factory
+    from relpos_estimator.cli import load_parameters
+    from relpos_estimator.recorded import read_outputs
+    from relpos_estimator.recorded import read_recording
+    from relpos_estimator.recorded import replay
+
+    assert main(['evaluate', str(STILL), '--replay', '--out', str(tmp_path / 'replay')]) == 0
+    via_replay = capsys.readouterr().out
+    assert main(['evaluate', str(STILL), '--out', str(tmp_path / 'direct')]) == 0
+    direct = capsys.readouterr().out
+    assert 'tethersim replay' in via_replay and 'directly' in direct
+    assert _table(via_replay) == _table(direct) and len(_table(direct)) >= 2
+    node = read_outputs(tmp_path / 'replay' / 'replay-estimator-still-40s')
+    core = replay(read_recording(STILL), _factory(load_parameters(None))())
+    assert sorted(node.ticks) == sorted(core.ticks) and node.rejected == core.rejected
+    stamps = sorted(core.ticks)
+    np.testing.assert_array_equal(np.array([node.ticks[t] for t in stamps], dtype=float),
+                                  np.array([core.ticks[t] for t in stamps], dtype=float))
+
+
 def test_tune_writes_a_parameter_file_that_evaluate_loads(tmp_path, capsys):
     assert main(['tune', str(HPR3), '--max-rounds', '1', '--out', str(tmp_path)]) == 0
     out = capsys.readouterr().out

@@ -19,7 +19,6 @@ from tether_msgs.msg import DgpsFix  # noqa: E402
 from tether_msgs.msg import RelativeEstimate  # noqa: E402
 from tether_msgs.msg import RelativePosition  # noqa: E402
 
-from relpos_estimator.sensors_node import SENSOR_INPUT  # noqa: E402
 from relpos_estimator.sensors_node import STATE_INPUT  # noqa: E402
 
 
@@ -38,8 +37,8 @@ def test_sensors_and_estimator_track_the_platform(tmp_path):
     rclpy.init()
     node = rclpy.create_node('probe')
     got = {'imu': [], 'fix': [], 'estimate': [], 'truth': []}
-    node.create_subscription(Imu, '/imu/reel', got['imu'].append, SENSOR_INPUT)
-    node.create_subscription(DgpsFix, '/dgps/fix', got['fix'].append, SENSOR_INPUT)
+    node.create_subscription(Imu, '/imu/reel', got['imu'].append, STATE_INPUT)
+    node.create_subscription(DgpsFix, '/dgps/fix', got['fix'].append, STATE_INPUT)
     node.create_subscription(RelativeEstimate, '/estimate/relative', got['estimate'].append, STATE_INPUT)
     node.create_subscription(RelativePosition, '/truth/relative', got['truth'].append, STATE_INPUT)
     clock = node.create_publisher(Clock, '/clock', 10)

@@ -51,6 +51,8 @@ THESIS = {
     'tension_taut': (27.52, 7.30, 55.70), 'arrival_error': 2.1, 'departure_lag': 0.88,
 }
 """Sec. 6.1.1-6.1.4."""
+THESIS_TABLE_6_2 = {'length_mean': 0.022, 'length_rmse': 0.027, 'test_time': 2465.0}
+"""Length error with the relative-altitude estimator as the reel's feedback (Table 6.2)."""
 MODE_NAMES = {1: 'catenary', 2: 'taut', 5: 'locked'}
 TOPICS = ('/tether/state', '/truth/relative', '/reel/state', '/reel/diagnostics', '/platform/state')
 
@@ -351,6 +353,17 @@ def reel_report(bag_path: str, out_dir: str) -> list[str]:
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
     return report([bag_path], out).splitlines()
+
+
+def estimator_feedback_report(bag_path: str, out_dir: str) -> list[str]:
+    """Scene report of ``surrogate_estimator``: the length error of :func:`analyse` beside Table 6.2."""
+    result = analyse(load_run(bag_path))
+    thesis = THESIS_TABLE_6_2
+    return [f'length error with the estimator as feedback (Table 6.2), after the first {SETTLE:g} s: '
+            f'mean {result["length_mean"]:+.4f} m, RMSE {result["length_rmse"]:.4f} m over '
+            f'{result["duration"] - SETTLE:.0f} s; thesis: mean {thesis["length_mean"]} m, RMSE '
+            f'{thesis["length_rmse"]} m over {thesis["test_time"]:.0f} s (MoCap feedback, Sec. 6.1.1: mean '
+            f'{THESIS["length_mean"]} m, RMSE {THESIS["length_rmse"]} m)']
 
 
 def _arguments(parser: argparse.ArgumentParser) -> None:
