@@ -115,7 +115,7 @@ def cmd_evaluate(args: argparse.Namespace) -> str:
     for i, (rec, bag) in enumerate(zip(recs, args.bags), 1):
         print(f'[{PROG}] evaluating {rec.name} ({i}/{len(recs)})', file=sys.stderr, flush=True)
         run = (_through_replay(rec, bag, values, args.out) if args.replay
-               else replay(rec, _factory(values)()))
+               else replay(rec, _factory(values)(), input_delay=values['input_delay']))
         scores.append(score(rec, run, _factory(values), counterfactuals=not args.no_shift))
     source = ('the estimator node behind tethersim replay of each recording' if args.replay
               else 'the estimator core stepped directly on the decoded messages')

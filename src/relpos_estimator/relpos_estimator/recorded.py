@@ -109,11 +109,16 @@ def _key(sequence: int, fix_time: float) -> tuple[int, int]:
     return sequence, int(round(fix_time * 1e9))
 
 
-def replay(rec: Recording, estimator: Estimator, fixes: list[Fix] | None = None) -> Outputs:
-    """Step ``estimator`` over every reel-IMU tick as the node does; fixes are handed over at their arrival."""
+def replay(rec: Recording, estimator: Estimator, fixes: list[Fix] | None = None,
+           input_delay: float = 0.0) -> Outputs:
+    """Step ``estimator`` over the reel-IMU ticks as the node does; fixes are handed over at their arrival.
+
+    The node runs filter tick t once the clock has reached t + ``input_delay``; replayed, the
+    clock ends at the last message, so the ticks of the last ``input_delay`` are not run here either.
+    """
     pending = sorted(rec.fixes if fixes is None else fixes, key=lambda f: (f.arrival, f.sequence))
     period = int(round(estimator.dt * 1e9))
-    first, last = min(rec.reel), max(rec.reel)
+    first, last = min(rec.reel), max(rec.reel) - int(round(input_delay * 1e9))
     out = Outputs({}, Counter())
     i = 0
     for t_ns in range(first, last + 1, period):

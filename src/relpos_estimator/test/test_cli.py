@@ -61,7 +61,8 @@ def test_replay_through_the_node_gives_the_numbers_of_the_direct_run(tmp_path, c
     assert 'tethersim replay' in via_replay and 'directly' in direct
     assert _table(via_replay) == _table(direct) and len(_table(direct)) >= 2
     node = read_outputs(tmp_path / 'replay' / 'replay-estimator-still-40s')
-    core = replay(read_recording(STILL), _factory(load_parameters(None))())
+    values = load_parameters(None)
+    core = replay(read_recording(STILL), _factory(values)(), input_delay=values['input_delay'])
     assert sorted(node.ticks) == sorted(core.ticks) and node.rejected == core.rejected
     stamps = sorted(core.ticks)
     np.testing.assert_array_equal(np.array([node.ticks[t] for t in stamps], dtype=float),
