@@ -359,9 +359,9 @@ def estimator_feedback_report(bag_path: str, out_dir: str) -> list[str]:
     """Scene report of ``surrogate_estimator``: the length error of :func:`analyse` beside Table 6.2."""
     result = analyse(load_run(bag_path))
     thesis = THESIS_TABLE_6_2
-    return [f'length error with the estimator as feedback (Table 6.2), after the first {SETTLE:g} s: '
+    return [f'length error with the estimator as feedback (Table 6.2), after the first {result["settle"]:g} s: '
             f'mean {result["length_mean"]:+.4f} m, RMSE {result["length_rmse"]:.4f} m over '
-            f'{result["duration"] - SETTLE:.0f} s; thesis: mean {thesis["length_mean"]} m, RMSE '
+            f'{result["duration"] - result["settle"]:.0f} s; thesis: mean {thesis["length_mean"]} m, RMSE '
             f'{thesis["length_rmse"]} m over {thesis["test_time"]:.0f} s (MoCap feedback, Sec. 6.1.1: mean '
             f'{THESIS["length_mean"]} m, RMSE {THESIS["length_rmse"]} m)']
 
