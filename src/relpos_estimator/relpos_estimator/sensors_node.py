@@ -20,12 +20,13 @@ Outputs, all stamped by the truth's stamps, never by arrival:
   so that a run's bag holds what the estimate is scored against.
 
 The node ticks in lockstep (:mod:`tether_common.lockstep`): its inputs are declared with
-the producers' period, the node's own (``rate``: the platform's and the plant's
-state rate), and no delay, so tick t has the reel pose, the
-platform state and (``truth: plant``) the relative position stamped t. The central
-difference needs the pose of t + dt, so tick t simulates the sensors at t - dt (the
-platform rests at its first pose before its first message): every
-output of tick t is stamped t - dt or earlier (a consumer declares a delay of one period).
+the producers' period, the node's own (``rate``: the platform's and the plant's state
+rate). The central difference needs the pose of t + dt, so tick t simulates the sensors at
+t - dt (the platform rests at its first pose before its first message) from the reel pose
+stamped t (no delay) and the platform state and (``truth: plant``) relative position
+stamped t - dt (a delay of one period, which also keeps the loop through a reel that
+follows the estimate free of a same-tick cycle): every output of tick t is stamped t - dt
+or earlier (a consumer declares a delay of one period).
 The fixes of a tick are published before its IMU samples.
 """
 
@@ -94,9 +95,9 @@ class SensorsNode(Node):
         self.sliders: dict[int, np.ndarray] = {}
         self.relative: dict[int, tuple[np.ndarray, np.ndarray]] = {}
         inputs = [Input('/platform/reel_pose', PoseStamped, self.dt),
-                  Input('/platform/state', PlatformState, self.dt)]
+                  Input('/platform/state', PlatformState, self.dt, self.dt)]
         if self.params['truth'] == 'plant':
-            inputs.append(Input('/truth/relative', RelativePosition, self.dt))
+            inputs.append(Input('/truth/relative', RelativePosition, self.dt, self.dt))
             self.truth_pub = None
         else:
             self.truth_pub = self.create_publisher(RelativePosition, '/truth/relative', STATE)
