@@ -22,7 +22,8 @@ Outputs, all stamped by the truth's stamps, never by arrival:
 The node ticks in lockstep (:mod:`tether_common.lockstep`): its inputs are declared with
 the producers' period, the node's own (``rate``: the platform's and the plant's state
 rate). The central difference needs the pose of t + dt, so tick t simulates the sensors at
-t - dt (the platform rests at its first pose before its first message) from the reel pose
+t - dt (the platform rests at its first pose before its first tick, k = 1; a node that
+joined later starts once it has three poses) from the reel pose
 stamped t (no delay) and the platform state and (``truth: plant``) relative position
 stamped t - dt (a delay of one period, which also keeps the loop through a reel that
 follows the estimate free of a same-tick cycle): every output of tick t is stamped t - dt
@@ -132,8 +133,8 @@ class SensorsNode(Node):
         """Ground truth at ``t_ns`` from the buffered inputs, or None if one is missing."""
         d = self.period_ns
         poses = [self.poses.get(t_ns + k * d) for k in (-1, 0, 1)]
-        if poses[0] is None and self.poses and t_ns == min(self.poses):
-            poses[0] = poses[1]  # before its first message the platform rests at its first pose (profile ramp)
+        if poses[0] is None and t_ns == d:
+            poses[0] = poses[1]  # before its first tick the platform rests at its first pose (profile ramp)
         slider = self.sliders.get(t_ns)
         if any(p is None for p in poses) or slider is None:
             return None
