@@ -24,6 +24,7 @@ import yaml  # noqa: E402
 from relpos_estimator.estimator import Estimator  # noqa: E402
 from relpos_estimator.estimator_params import PARAMETERS  # noqa: E402
 from relpos_estimator.estimator_params import configs  # noqa: E402
+from relpos_estimator.estimator_params import tuned_file  # noqa: E402
 from relpos_estimator.kalman import Covariances  # noqa: E402
 from relpos_estimator.recorded import Recording  # noqa: E402
 from relpos_estimator.recorded import read_outputs  # noqa: E402
@@ -120,7 +121,7 @@ def cmd_evaluate(args: argparse.Namespace) -> str:
     source = ('the estimator node behind tethersim replay of each recording' if args.replay
               else 'the estimator core stepped directly on the decoded messages')
     lines = ['Estimator vs first-order hold (FOH) against the recorded truth (thesis Table 6.1 layout)',
-             f'outputs of {source}; parameters: {args.params or "defaults (config/estimator.yaml)"}',
+             f'outputs of {source}; parameters: {args.params}',
              f'{"recording":24s} {"time s":>8s} {"filter mean mm":>15s} {"filter RMSE mm":>15s} '
              f'{"FOH mean mm":>12s} {"FOH RMSE mm":>12s} {"RMSE ratio":>10s}']
     for s in scores:
@@ -180,8 +181,6 @@ def _checks(scores) -> list[str]:
 def cmd_tune(args: argparse.Namespace) -> str:
     """Algorithm 1 on the recordings' RMSE; writes tuned.yaml (ROS 2 parameter file for the estimator node)."""
     values = load_parameters(args.params)
-    if args.from_thesis:
-        values.update({name: float(getattr(Covariances(), name)) for name in Covariances.names()})
     recs = _recordings(args.bags)
     names = Covariances.names()
     start = np.array([values[n] for n in names], dtype=float)
@@ -219,7 +218,8 @@ def _arguments(parser: argparse.ArgumentParser) -> None:
     commands = parser.add_subparsers(dest='command', required=True, parser_class=OneLineParser)
     evaluate = commands.add_parser('evaluate', help='score the estimator on recorded sensor topics (Table 6.1)')
     evaluate.add_argument('bags', nargs='+', help='bag files, bag directories or run directories')
-    evaluate.add_argument('--params', type=Path, help='estimator parameter file (e.g. written by tune)')
+    evaluate.add_argument('--params', type=Path, default=tuned_file(),
+                          help='estimator parameter file (default: the tuned config/estimator_tuned.yaml)')
     evaluate.add_argument('--no-shift', action='store_true', help='skip the counterfactual runs of the shifts')
     evaluate.add_argument('--replay', action='store_true',
                           help='score the estimator node run behind tethersim replay of each recording')
@@ -227,9 +227,8 @@ def _arguments(parser: argparse.ArgumentParser) -> None:
     evaluate.set_defaults(func=cmd_evaluate)
     tune = commands.add_parser('tune', help='Twiddle the covariances against the recorded truth (Algorithm 1)')
     tune.add_argument('bags', nargs='+', help='bag files, bag directories or run directories')
-    tune.add_argument('--params', type=Path, help='start from this estimator parameter file')
-    tune.add_argument('--from-thesis', action='store_true', help="start from the thesis's tuned covariances "
-                      '(Sec. 6.2) instead of the defaults')
+    tune.add_argument('--params', type=Path, help="start from this estimator parameter file (default: the "
+                      "node's defaults, the thesis's Sec. 6.2 values)")
     tune.add_argument('--step', type=positive(), default=0.3, help='first step as a fraction of each value')
     tune.add_argument('--tolerance', type=positive(), default=0.1, help='stop at this mean relative step')
     tune.add_argument('--max-rounds', type=positive(int), default=30, help='stop after this many rounds')

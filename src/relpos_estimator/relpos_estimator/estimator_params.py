@@ -1,10 +1,12 @@
 """Parameters of the estimator node (no rclpy import; the bringup validates scenes with them).
 
 The covariances are the diagonal entries of Q and R (see :mod:`relpos_estimator.kalman`).
-Their defaults are read from the package's tuned parameter file
-``share/relpos_estimator/config/estimator.yaml``, written by ``tethersim estimator tune``
-on the tuning recordings (HPR #1, #2, heave-only; bags/README.md); the thesis's tuned
-values (Sec. 6.2) are :class:`~relpos_estimator.kalman.Covariances`' defaults.
+``covariances: parameters`` (default) takes them from the ``sigma_*`` parameters, whose
+defaults are the thesis's tuned values (Sec. 6.2); ``covariances: tuned`` takes them from
+the package's ``share/relpos_estimator/config/estimator_tuned.yaml``, written by
+``tethersim estimator tune`` on the UAV-surrogate reference bags (HPR #1, #2, heave-only;
+bags/README.md). The tuned values trust the accelerometers more; they were tuned with the
+UAV held still, so the flight scenes keep the thesis's.
 """
 
 from __future__ import annotations
@@ -21,16 +23,16 @@ from tether_common.parameters import ParamSpec
 
 def tuned_file() -> Path:
     """The installed tuned parameter file of the estimator."""
-    return Path(get_package_share_directory('relpos_estimator')) / 'config' / 'estimator.yaml'
+    return Path(get_package_share_directory('relpos_estimator')) / 'config' / 'estimator_tuned.yaml'
 
 
-def _tuned() -> Covariances:
+def tuned_covariances() -> Covariances:
+    """The covariances of :func:`tuned_file`."""
     section = yaml.safe_load(tuned_file().read_text(encoding='utf-8'))['/**']['ros__parameters']
     return Covariances(**{name: float(section[name]) for name in Covariances.names()})
 
 
-_C = _tuned()
-_THESIS = Covariances()
+_C = Covariances()
 _L = LogicConfig()
 
 _UNITS = {'sigma_z': 'm^2', 'sigma_zdot': '(m/s)^2', 'sigma_zddot': '(m/s^2)^2', 'sigma_mu1': '(m/s^2)^2',
@@ -47,9 +49,11 @@ PARAMETERS: tuple[ParamSpec, ...] = (
     ParamSpec('fix_hold', _L.fix_hold, 'a fix is considered this long after its arrival stamp (so that it has '
               'reached the node whatever the load; it is fused at its time of fix)', 's', low=0.0, high=1.0,
               read_only=True),
-    *(ParamSpec(name, float(getattr(_C, name)), f'{name}: diagonal entry of Q or R (Eq. 4.7, 4.9); default '
-                f'tuned by tethersim estimator tune (config/estimator.yaml), thesis Sec. 6.2: '
-                f'{getattr(_THESIS, name):g}', _UNITS[name], low=1e-30, high=1e12, read_only=True)
+    ParamSpec('covariances', 'parameters', 'where Q and R come from: parameters (the sigma_* parameters) or tuned '
+              '(config/estimator_tuned.yaml, written by tethersim estimator tune; the sigma_* are then ignored)',
+              choices=('parameters', 'tuned'), read_only=True),
+    *(ParamSpec(name, float(getattr(_C, name)), f'{name}: diagonal entry of Q or R (Eq. 4.7, 4.9), tuned value '
+                'of Sec. 6.2 by default', _UNITS[name], low=1e-30, high=1e12, read_only=True)
       for name in Covariances.names()),
     ParamSpec('min_status', _L.min_status, 'lowest DgpsFix status fused (4: RTK fixed)', low=0, high=4,
               read_only=True),
@@ -74,7 +78,8 @@ PARAMETERS: tuple[ParamSpec, ...] = (
 
 def configs(params: dict) -> tuple[Covariances, LogicConfig]:
     """Covariances and message-logic settings of a parameter set."""
-    cov = Covariances(**{name: params[name] for name in Covariances.names()})
+    cov = (tuned_covariances() if params['covariances'] == 'tuned'
+           else Covariances(**{name: params[name] for name in Covariances.names()}))
     logic = LogicConfig(min_status=params['min_status'], clock_tolerance=params['clock_tolerance'],
                         max_age=params['max_age'], max_jump=params['max_jump'], max_speed=params['max_speed'],
                         gate_chi2=params['gate_chi2'], gate_max_std=params['gate_max_std'],

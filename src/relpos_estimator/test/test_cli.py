@@ -50,6 +50,7 @@ def test_replay_through_the_node_gives_the_numbers_of_the_direct_run(tmp_path, c
     """The estimator node behind tethersim replay publishes exactly what the core gives on the decoded messages."""
     from relpos_estimator.cli import _factory
     from relpos_estimator.cli import load_parameters
+    from relpos_estimator.estimator_params import tuned_file
     from relpos_estimator.recorded import read_outputs
     from relpos_estimator.recorded import read_recording
     from relpos_estimator.recorded import replay
@@ -61,7 +62,7 @@ def test_replay_through_the_node_gives_the_numbers_of_the_direct_run(tmp_path, c
     assert 'tethersim replay' in via_replay and 'directly' in direct
     assert _table(via_replay) == _table(direct) and len(_table(direct)) >= 2
     node = read_outputs(tmp_path / 'replay' / 'replay-estimator-still-40s')
-    values = load_parameters(None)
+    values = load_parameters(tuned_file())
     core = replay(read_recording(STILL), _factory(values)(), input_delay=values['input_delay'])
     assert sorted(node.ticks) == sorted(core.ticks) and node.rejected == core.rejected
     stamps = sorted(core.ticks)
