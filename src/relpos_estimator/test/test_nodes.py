@@ -1,4 +1,8 @@
-"""The sensors and estimator nodes on sim time behind the platform node, with the UAV surrogate as truth."""
+"""The sensors and estimator nodes on sim time behind the platform node, with the UAV surrogate as truth.
+
+The probe is the time master: it steps ``/clock`` only when every node has acked the last
+step, as the bringup does, so what the nodes publish does not depend on how fast they run.
+"""
 
 from __future__ import annotations
 
@@ -20,6 +24,7 @@ from tether_msgs.msg import RelativeEstimate  # noqa: E402
 from tether_msgs.msg import RelativePosition  # noqa: E402
 
 from relpos_estimator.sensors_node import STATE_INPUT  # noqa: E402
+from tether_bringup.barrier import Barrier  # noqa: E402
 
 
 def test_sensors_and_estimator_track_the_platform(tmp_path):
@@ -42,21 +47,25 @@ def test_sensors_and_estimator_track_the_platform(tmp_path):
     node.create_subscription(RelativeEstimate, '/estimate/relative', got['estimate'].append, STATE_INPUT)
     node.create_subscription(RelativePosition, '/truth/relative', got['truth'].append, STATE_INPUT)
     clock = node.create_publisher(Clock, '/clock', 10)
+    barrier = Barrier(node, ['/platform', '/sensors', '/estimator'])
+
+    def spin_until_acked(time_ns: int) -> None:
+        """Spin the probe until every node has acked ``time_ns``; a guard against a hang, not a speed limit."""
+        deadline = time.monotonic() + 120.0
+        while not barrier.reached(time_ns):
+            assert time.monotonic() < deadline, f'no ack of {time_ns} ns within 120 s: {barrier.behind(time_ns)}'
+            assert all(p.poll() is None for p in processes), 'a node ended early'
+            rclpy.spin_once(node, timeout_sec=0.01)
+
     try:
-        deadline = time.monotonic() + 60.0
-        while time.monotonic() < deadline and node.count_subscribers('/clock') < 4:
-            rclpy.spin_once(node, timeout_sec=0.05)
-        time.sleep(1.0)
         sim_ns = 0
-        while sim_ns < 8_000_000_000 and time.monotonic() < deadline + 120.0:
+        spin_until_acked(0)  # every node joined
+        while sim_ns < 8_000_000_000:  # /clock advances only once every node has acked it, as in a run
             sim_ns += 10_000_000
             msg = Clock()
             msg.clock.sec, msg.clock.nanosec = divmod(sim_ns, 1_000_000_000)
             clock.publish(msg)
-            end = time.monotonic() + 0.01
-            while time.monotonic() < end:
-                rclpy.spin_once(node, timeout_sec=0.002)
-            assert all(p.poll() is None for p in processes)
+            spin_until_acked(sim_ns)
         end = time.monotonic() + 2.0
         while time.monotonic() < end:
             rclpy.spin_once(node, timeout_sec=0.01)
