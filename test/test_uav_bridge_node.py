@@ -9,6 +9,7 @@ import subprocess
 import sys
 import threading
 
+import domain_coordinator
 import pytest
 
 rclpy = pytest.importorskip('rclpy')
@@ -74,12 +75,14 @@ class Probe:
 
 
 @pytest.fixture
-def ros_domain():
-    domain = 100 + os.getpid() % 100
-    os.environ['ROS_DOMAIN_ID'] = str(domain)
-    rclpy.init()
-    yield domain
-    rclpy.shutdown()
+def ros_domain(monkeypatch):
+    """A ROS_DOMAIN_ID reserved for this test alone (parallel test runs do not share it), rclpy started in it."""
+    with domain_coordinator.domain_id() as domain:
+        monkeypatch.setenv('ROS_DOMAIN_ID', str(domain))
+        monkeypatch.setenv('ROS_AUTOMATIC_DISCOVERY_RANGE', 'LOCALHOST')
+        rclpy.init()
+        yield domain
+        rclpy.shutdown()
 
 
 def test_bridge_node_flies_the_double(ros_domain):

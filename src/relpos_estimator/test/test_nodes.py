@@ -6,12 +6,12 @@ step, as the bringup does, so what the nodes publish does not depend on how fast
 
 from __future__ import annotations
 
-import os
 import signal
 import subprocess
 import sys
 import time
 
+import domain_coordinator
 import numpy as np
 import pytest
 
@@ -27,8 +27,16 @@ from relpos_estimator.sensors_node import STATE_INPUT  # noqa: E402
 from tether_bringup.barrier import Barrier  # noqa: E402
 
 
-def test_sensors_and_estimator_track_the_platform(tmp_path):
-    env = dict(os.environ, ROS_DOMAIN_ID=str(100 + os.getpid() % 100))
+@pytest.fixture
+def ros_domain(monkeypatch):
+    """A ROS_DOMAIN_ID reserved for this test alone (parallel test runs do not share it)."""
+    with domain_coordinator.domain_id() as domain:
+        monkeypatch.setenv('ROS_DOMAIN_ID', str(domain))
+        monkeypatch.setenv('ROS_AUTOMATIC_DISCOVERY_RANGE', 'LOCALHOST')
+        yield domain
+
+
+def test_sensors_and_estimator_track_the_platform(tmp_path, ros_domain):
     common = ['--ros-args', '-p', 'use_sim_time:=true']
     commands = [
         ['psr_platform_sim.platform_node', '-p', 'profile:=hpr1', '-p', 'profile_duration:=20.0',
@@ -36,9 +44,8 @@ def test_sensors_and_estimator_track_the_platform(tmp_path):
         ['relpos_estimator.sensors_node', '-p', 'truth:=surrogate', '-p', 'seed:=4'],
         ['relpos_estimator.estimator_node'],
     ]
-    processes = [subprocess.Popen([sys.executable, '-m', c[0], *common, *c[1:]], env=env, stdout=subprocess.PIPE,
+    processes = [subprocess.Popen([sys.executable, '-m', c[0], *common, *c[1:]], stdout=subprocess.PIPE,
                                   stderr=subprocess.STDOUT, text=True) for c in commands]
-    os.environ['ROS_DOMAIN_ID'] = env['ROS_DOMAIN_ID']
     rclpy.init()
     node = rclpy.create_node('probe')
     got = {'imu': [], 'fix': [], 'estimate': [], 'truth': []}

@@ -2,12 +2,12 @@
 
 from __future__ import annotations
 
-import os
 import signal
 import subprocess
 import sys
 import time
 
+import domain_coordinator
 import pytest
 
 rclpy = pytest.importorskip('rclpy')
@@ -23,10 +23,18 @@ from tether_common.qos import STATE  # noqa: E402
 from tether_dynamics.statics.reference_length import reference_length  # noqa: E402
 
 
+@pytest.fixture(autouse=True)
+def ros_domain(monkeypatch):
+    """A ROS_DOMAIN_ID reserved for this test alone (parallel test runs do not share it)."""
+    with domain_coordinator.domain_id() as domain:
+        monkeypatch.setenv('ROS_DOMAIN_ID', str(domain))
+        monkeypatch.setenv('ROS_AUTOMATIC_DISCOVERY_RANGE', 'LOCALHOST')
+        yield domain
+
+
 def _start(*extra):
-    env = dict(os.environ, ROS_DOMAIN_ID=str(120 + os.getpid() % 50))
     cmd = [sys.executable, '-m', 'smart_reel.reel_node', '--ros-args', '-p', 'use_sim_time:=true', *extra]
-    return subprocess.Popen(cmd, env=env, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True), env
+    return subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
 
 
 def _stamp(msg, ns: int) -> None:
@@ -38,8 +46,7 @@ def _ns(msg) -> int:
 
 
 def test_reel_node_pays_out_as_the_uav_rises():
-    process, env = _start('-p', f'initial_length:={reference_length(3.22, 7.0).length}')
-    os.environ['ROS_DOMAIN_ID'] = env['ROS_DOMAIN_ID']
+    process = _start('-p', f'initial_length:={reference_length(3.22, 7.0).length}')
     rclpy.init()
     node = rclpy.create_node('plant_test_double')
     got = {'command': [], 'state': [], 'diagnostics': []}
@@ -106,7 +113,7 @@ def test_reel_node_pays_out_as_the_uav_rises():
 
 
 def test_bad_parameter_is_one_line_exit_2():
-    process, _ = _start('-p', 'controller:=sloppy')
+    process = _start('-p', 'controller:=sloppy')
     _, err = process.communicate(timeout=30)
     assert process.returncode == 2
     assert 'controller' in err and 'Traceback' not in err
@@ -114,8 +121,7 @@ def test_bad_parameter_is_one_line_exit_2():
 
 def test_a_safety_trip_is_published_with_its_reason_and_logged():
     """The taut controller's reel-in torque reads as ~30 N of tension; a 5 N limit trips it."""
-    process, env = _start('-p', 'controller:=taut', '-p', 'max_tension:=5.0', '-p', 'initial_length:=8.0')
-    os.environ['ROS_DOMAIN_ID'] = env['ROS_DOMAIN_ID']
+    process = _start('-p', 'controller:=taut', '-p', 'max_tension:=5.0', '-p', 'initial_length:=8.0')
     rclpy.init()
     node = rclpy.create_node('mission_test_double')
     states, diagnostics = [], []
