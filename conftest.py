@@ -1,8 +1,12 @@
-"""Session-wide check of the test suite: tests write only under pytest's temporary paths.
+"""What every test of the suite shares.
 
-The checkout is listed before and after the session; a file or directory that appeared
-outside the build products (``build``, ``install``, ``log``, the venv, caches) fails the
-session and is named, so a test that forgets ``--out tmp_path`` cannot go unnoticed.
+- Tests write only under pytest's temporary paths: the checkout is listed before and
+  after the session; a file or directory that appeared outside the build products
+  (``build``, ``install``, ``log``, the venv, caches) fails the session and is named, so a
+  test that forgets ``--out tmp_path`` cannot go unnoticed.
+- A test that talks DDS reserves its own ROS domain (``ros_domain``, ``ros_context``) with
+  the allocator launch_testing uses, so two copies of the suite on one machine never
+  share a domain.
 """
 
 from __future__ import annotations
@@ -10,6 +14,7 @@ from __future__ import annotations
 import os
 from pathlib import Path
 
+import domain_coordinator
 import pytest
 
 ROOT = Path(__file__).resolve().parent
@@ -43,3 +48,22 @@ def pytest_sessionfinish(session: pytest.Session, exitstatus: int) -> None:
 
 
 _BEFORE = pytest.StashKey[set]()
+
+
+@pytest.fixture
+def ros_domain(monkeypatch):
+    """A ROS_DOMAIN_ID reserved for this test alone, discovery on localhost, set in the environment."""
+    with domain_coordinator.domain_id() as domain:
+        monkeypatch.setenv('ROS_DOMAIN_ID', str(domain))
+        monkeypatch.setenv('ROS_AUTOMATIC_DISCOVERY_RANGE', 'LOCALHOST')
+        yield domain
+
+
+@pytest.fixture
+def ros_context(ros_domain):
+    """An rclpy context initialised in the test's reserved domain."""
+    import rclpy
+    context = rclpy.Context()
+    rclpy.init(context=context)
+    yield context
+    rclpy.shutdown(context=context)

@@ -16,7 +16,6 @@ import sys
 import time
 from pathlib import Path
 
-import domain_coordinator
 import pytest
 import rclpy
 from ament_index_python.packages import get_package_prefix
@@ -66,15 +65,6 @@ BAD = [
      "talker_double.py: error: Trying to set parameter 'rate' to 'fast' of type 'STRING', expecting type "
      "'DOUBLE': rate"),
 ]
-
-
-@pytest.fixture
-def ros_domain(monkeypatch):
-    """A ROS_DOMAIN_ID reserved for this test alone."""
-    with domain_coordinator.domain_id() as domain:
-        monkeypatch.setenv('ROS_DOMAIN_ID', str(domain))
-        monkeypatch.setenv('ROS_AUTOMATIC_DISCOVERY_RANGE', 'LOCALHOST')
-        yield domain
 
 
 def _specified_nodes() -> list[tuple[str, str]]:

@@ -9,7 +9,6 @@ import subprocess
 import sys
 import threading
 
-import domain_coordinator
 import pytest
 
 rclpy = pytest.importorskip('rclpy')
@@ -75,14 +74,11 @@ class Probe:
 
 
 @pytest.fixture
-def ros_domain(monkeypatch):
-    """A ROS_DOMAIN_ID reserved for this test alone (parallel test runs do not share it), rclpy started in it."""
-    with domain_coordinator.domain_id() as domain:
-        monkeypatch.setenv('ROS_DOMAIN_ID', str(domain))
-        monkeypatch.setenv('ROS_AUTOMATIC_DISCOVERY_RANGE', 'LOCALHOST')
-        rclpy.init()
-        yield domain
-        rclpy.shutdown()
+def ros_domain(ros_domain):
+    """The test's reserved ROS domain (the suite's fixture) with rclpy's default context started in it."""
+    rclpy.init()
+    yield ros_domain
+    rclpy.shutdown()
 
 
 def test_bridge_node_flies_the_double(ros_domain):

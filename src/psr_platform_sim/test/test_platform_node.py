@@ -8,7 +8,6 @@ import subprocess
 import sys
 import time
 
-import domain_coordinator
 import numpy as np
 import pytest
 from scipy.spatial.transform import Rotation
@@ -27,15 +26,6 @@ from psr_platform_sim.simulator import PlatformSimulator  # noqa: E402
 from tether_bringup.barrier import Barrier  # noqa: E402
 from tether_common.qos import SENSOR  # noqa: E402
 from tether_common.qos import STATE  # noqa: E402
-
-
-@pytest.fixture
-def ros_domain(monkeypatch):
-    """A ROS_DOMAIN_ID reserved for this test alone (parallel test runs do not share it)."""
-    with domain_coordinator.domain_id() as domain:
-        monkeypatch.setenv('ROS_DOMAIN_ID', str(domain))
-        monkeypatch.setenv('ROS_AUTOMATIC_DISCOVERY_RANGE', 'LOCALHOST')
-        yield domain
 
 
 def _start_node(tmp_path, *extra):

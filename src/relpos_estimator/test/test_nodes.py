@@ -11,7 +11,6 @@ import subprocess
 import sys
 import time
 
-import domain_coordinator
 import numpy as np
 import pytest
 
@@ -25,15 +24,6 @@ from tether_msgs.msg import RelativePosition  # noqa: E402
 
 from relpos_estimator.sensors_node import STATE_INPUT  # noqa: E402
 from tether_bringup.barrier import Barrier  # noqa: E402
-
-
-@pytest.fixture
-def ros_domain(monkeypatch):
-    """A ROS_DOMAIN_ID reserved for this test alone (parallel test runs do not share it)."""
-    with domain_coordinator.domain_id() as domain:
-        monkeypatch.setenv('ROS_DOMAIN_ID', str(domain))
-        monkeypatch.setenv('ROS_AUTOMATIC_DISCOVERY_RANGE', 'LOCALHOST')
-        yield domain
 
 
 def test_sensors_and_estimator_track_the_platform(tmp_path, ros_domain):

@@ -7,7 +7,6 @@ import subprocess
 import sys
 import time
 
-import domain_coordinator
 import pytest
 
 rclpy = pytest.importorskip('rclpy')
@@ -23,13 +22,7 @@ from tether_common.qos import STATE  # noqa: E402
 from tether_dynamics.statics.reference_length import reference_length  # noqa: E402
 
 
-@pytest.fixture(autouse=True)
-def ros_domain(monkeypatch):
-    """A ROS_DOMAIN_ID reserved for this test alone (parallel test runs do not share it)."""
-    with domain_coordinator.domain_id() as domain:
-        monkeypatch.setenv('ROS_DOMAIN_ID', str(domain))
-        monkeypatch.setenv('ROS_AUTOMATIC_DISCOVERY_RANGE', 'LOCALHOST')
-        yield domain
+pytestmark = pytest.mark.usefixtures('ros_domain')
 
 
 def _start(*extra):

@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import domain_coordinator
 import rclpy
 import yaml
 from mcap.reader import make_reader
@@ -69,23 +68,16 @@ def test_unflushed_writer_leaves_readable_prefix(tmp_path):
     assert bag.topics['/point'].count == 3
 
 
-def test_every_channel_carries_the_type_hash_rclpy_reports(tmp_path, monkeypatch):
+def test_every_channel_carries_the_type_hash_rclpy_reports(tmp_path, ros_context):
     """A topic registered without its publisher's hash (/clock) gets the installed type's
     RIHS01 hash, the same one rclpy reports for a publisher of that type.
     """
-    with domain_coordinator.domain_id() as domain:
-        monkeypatch.setenv('ROS_DOMAIN_ID', str(domain))
-        context = rclpy.Context()
-        rclpy.init(context=context)
-        try:
-            node = rclpy.create_node('hash_probe', context=context)
-            node.create_publisher(Clock, '/clock', 1)
-            node.create_publisher(ReelState, '/reel/state', 1)
-            reported = {topic: type_hash_string(node.get_publishers_info_by_topic(topic)[0].topic_type_hash)
-                        for topic in ('/clock', '/reel/state')}
-            node.destroy_node()
-        finally:
-            rclpy.shutdown(context=context)
+    node = rclpy.create_node('hash_probe', context=ros_context)
+    node.create_publisher(Clock, '/clock', 1)
+    node.create_publisher(ReelState, '/reel/state', 1)
+    reported = {topic: type_hash_string(node.get_publishers_info_by_topic(topic)[0].topic_type_hash)
+                for topic in ('/clock', '/reel/state')}
+    node.destroy_node()
     writer = BagWriter(tmp_path / 'bag')
     writer.add_topic('/clock', 'rosgraph_msgs/msg/Clock', [QosRecord()])
     writer.add_topic('/reel/state', 'tether_msgs/msg/ReelState', [QosRecord()])

@@ -4,9 +4,7 @@ from __future__ import annotations
 
 import time
 
-import domain_coordinator
 import pytest
-import rclpy
 from geometry_msgs.msg import PointStamped
 from rclpy.node import Node
 from rclpy.parameter import Parameter
@@ -50,17 +48,6 @@ def test_stream_selects_latest_at_or_before_bound_and_knows_what_is_due():
         stream.add(_point(40 * MS, 3.0))
 
 
-@pytest.fixture
-def context(monkeypatch):
-    monkeypatch.setenv('ROS_AUTOMATIC_DISCOVERY_RANGE', 'LOCALHOST')
-    with domain_coordinator.domain_id() as domain:
-        monkeypatch.setenv('ROS_DOMAIN_ID', str(domain))
-        ctx = rclpy.Context()
-        rclpy.init(context=ctx)
-        yield ctx
-        rclpy.shutdown(context=ctx)
-
-
 def _spin_until(executor, condition, timeout=10.0):
     deadline = time.monotonic() + timeout
     while not condition() and time.monotonic() < deadline:
@@ -68,9 +55,9 @@ def _spin_until(executor, condition, timeout=10.0):
     return condition()
 
 
-def test_ticks_wait_for_the_input_they_select_and_ack(context):
-    node = Node('stepped', context=context, parameter_overrides=[Parameter('use_sim_time', value=True)])
-    source = Node('source', context=context)
+def test_ticks_wait_for_the_input_they_select_and_ack(ros_context):
+    node = Node('stepped', context=ros_context, parameter_overrides=[Parameter('use_sim_time', value=True)])
+    source = Node('source', context=ros_context)
     clock = source.create_publisher(Clock, '/clock', STATE)
     inputs = source.create_publisher(PointStamped, '/in', STATE)
     acks = []
@@ -80,7 +67,7 @@ def test_ticks_wait_for_the_input_they_select_and_ack(context):
     lockstep = Lockstep(node)
     lockstep.every(0.01, lambda tick: ticks.append((tick.time_ns, tick.inputs['/in'])),
                    inputs=[Input('/in', PointStamped, period=0.02, delay=0.0)])
-    executor = make_executor(context)
+    executor = make_executor(ros_context)
     executor.add_node(node)
     executor.add_node(source)
     assert _spin_until(executor, lambda: acks == [0])  # joined once /in has a publisher
@@ -106,16 +93,16 @@ def test_ticks_wait_for_the_input_they_select_and_ack(context):
     source.destroy_node()
 
 
-def test_a_delayed_input_cycle_needs_no_message_of_the_same_tick(context):
-    node = Node('delayed', context=context, parameter_overrides=[Parameter('use_sim_time', value=True)])
-    source = Node('source', context=context)
+def test_a_delayed_input_cycle_needs_no_message_of_the_same_tick(ros_context):
+    node = Node('delayed', context=ros_context, parameter_overrides=[Parameter('use_sim_time', value=True)])
+    source = Node('source', context=ros_context)
     clock = source.create_publisher(Clock, '/clock', STATE)
     inputs = source.create_publisher(PointStamped, '/in', STATE)
     ticks = []
     lockstep = Lockstep(node)
     lockstep.every(0.01, lambda tick: ticks.append(tick.inputs['/in']),
                    inputs=[Input('/in', PointStamped, period=0.01, delay=0.01)])
-    executor = make_executor(context)
+    executor = make_executor(ros_context)
     executor.add_node(node)
     executor.add_node(source)
     assert _spin_until(executor, lambda: clock.get_subscription_count() >= 2 and inputs.get_subscription_count() >= 1)
@@ -129,9 +116,9 @@ def test_a_delayed_input_cycle_needs_no_message_of_the_same_tick(context):
     source.destroy_node()
 
 
-def test_an_input_must_be_stamped(context):
+def test_an_input_must_be_stamped(ros_context):
     from std_msgs.msg import Float64
-    node = Node('unstamped', context=context)
+    node = Node('unstamped', context=ros_context)
     with pytest.raises(ValueError, match='has no header'):
         Lockstep(node).every(0.01, lambda tick: None, inputs=[Input('/x', Float64, period=0.01)])
     with pytest.raises(ValueError, match='period must be positive'):

@@ -2,9 +2,7 @@
 
 from __future__ import annotations
 
-import domain_coordinator
 import pytest
-import rclpy
 from rclpy.node import Node
 from rclpy.parameter import Parameter
 
@@ -19,34 +17,24 @@ SPECS = (
 )
 
 
-@pytest.fixture
-def context(monkeypatch):
-    with domain_coordinator.domain_id() as domain:
-        monkeypatch.setenv('ROS_DOMAIN_ID', str(domain))
-        ctx = rclpy.Context()
-        rclpy.init(context=ctx)
-        yield ctx
-        rclpy.shutdown(context=ctx)
-
-
 def _node(context, *overrides):
     return Node('params', context=context, parameter_overrides=list(overrides))
 
 
-def test_integers_for_doubles_are_doubles_and_bad_values_are_configuration_errors(context):
-    node = _node(context, Parameter('rate', value=20), Parameter('gain', value=2))
+def test_integers_for_doubles_are_doubles_and_bad_values_are_configuration_errors(ros_context):
+    node = _node(ros_context, Parameter('rate', value=20), Parameter('gain', value=2))
     values = declare_parameters(node, SPECS, on_change=lambda name, value: None)
     assert values == {'gain': 2.0, 'rate': 20.0, 'names': []}
     assert isinstance(values['rate'], float)
     assert node.get_parameter('rate').type_ == Parameter.Type.DOUBLE
     assert node.get_parameter('names').type_ == Parameter.Type.STRING_ARRAY
-    bad = _node(context, Parameter('rate', value=5000.0))
+    bad = _node(ros_context, Parameter('rate', value=5000.0))
     with pytest.raises(ConfigurationError, match=r'^parameter rate: expected a number in \[1, 1000\] \(Hz\), got 5000.0$'):
         declare_parameters(bad, SPECS, on_change=lambda name, value: None)
 
 
-def test_writable_parameter_takes_effect_and_read_only_is_refused(context):
-    node = _node(context)
+def test_writable_parameter_takes_effect_and_read_only_is_refused(ros_context):
+    node = _node(ros_context)
     changes = []
     declare_parameters(node, SPECS, on_change=lambda name, value: changes.append((name, value)))
     assert node.set_parameters([Parameter('gain', value=2.5)])[0].successful
@@ -58,6 +46,6 @@ def test_writable_parameter_takes_effect_and_read_only_is_refused(context):
     assert node.get_parameter('rate').value == 50.0
 
 
-def test_writable_parameter_without_a_way_to_apply_it_is_refused(context):
+def test_writable_parameter_without_a_way_to_apply_it_is_refused(ros_context):
     with pytest.raises(ValueError, match='writable parameter.* gain need an on_change'):
-        declare_parameters(_node(context), SPECS)
+        declare_parameters(_node(ros_context), SPECS)
