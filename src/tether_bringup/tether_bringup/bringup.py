@@ -274,8 +274,9 @@ def _progress(text: str, interactive: bool = False) -> None:
 def _summary(options: RunOptions, source, children, wall: float, failure: str | None) -> list[str]:
     lines = [
         f'{options.title}',
-        f'simulated {source.sim_time:.2f} s of {source.duration:.2f} s in {wall:.1f} s wall; '
-        f'achieved real-time factor {source.achieved_rate():.2f} (requested {rate_text(source.clock.rate)})',
+        f'simulated {source.sim_time:.2f} s of {source.duration:.2f} s in {wall:.1f} s wall, start-up included; '
+        f'achieved real-time factor {source.achieved_rate():.2f} from the first tick '
+        f'(requested {rate_text(source.clock.rate)})',
     ]
     if failure:
         lines.append(f'ended early: {failure.splitlines()[0]}')
