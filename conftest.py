@@ -12,6 +12,7 @@
 from __future__ import annotations
 
 import os
+import time
 from pathlib import Path
 
 import domain_coordinator
@@ -67,3 +68,40 @@ def ros_context(ros_domain):
     rclpy.init(context=context)
     yield context
     rclpy.shutdown(context=context)
+
+
+class LockstepMaster:
+    """A test probe as the run's time master: ``/clock`` advances only once every member node
+    has acked the last step (the bringup's :class:`~tether_bringup.barrier.Barrier`), so what
+    the nodes publish does not depend on how fast they run.
+    """
+
+    def __init__(self, node, members: list[str], processes) -> None:
+        from rosgraph_msgs.msg import Clock
+        from tether_bringup.barrier import Barrier
+        self._node, self._processes, self._message = node, processes, Clock
+        self._clock = node.create_publisher(Clock, '/clock', 10)
+        self._barrier = Barrier(node, members)
+
+    def wait_acked(self, time_ns: int) -> None:
+        """Spin until every member has acked ``time_ns`` (0: joined); a guard against a hang, not a speed limit."""
+        import rclpy
+        deadline = time.monotonic() + 120.0
+        while not self._barrier.reached(time_ns):
+            assert time.monotonic() < deadline, f'no ack of {time_ns} ns within 120 s: {self._barrier.behind(time_ns)}'
+            ended = [p.args for p in self._processes if p.poll() is not None]
+            assert not ended, f'node process(es) ended early: {ended}'
+            rclpy.spin_once(self._node, timeout_sec=0.01)
+
+    def step_to(self, time_ns: int) -> None:
+        """Publish ``/clock`` at ``time_ns`` and wait until every member has run up to it."""
+        msg = self._message()
+        msg.clock.sec, msg.clock.nanosec = divmod(time_ns, 1_000_000_000)
+        self._clock.publish(msg)
+        self.wait_acked(time_ns)
+
+
+@pytest.fixture
+def lockstep_master():
+    """The :class:`LockstepMaster` class, for a probe node driving ``/clock`` in a test."""
+    return LockstepMaster

@@ -16,14 +16,12 @@ rclpy = pytest.importorskip('rclpy')
 
 from geometry_msgs.msg import PoseStamped  # noqa: E402
 from geometry_msgs.msg import TwistStamped  # noqa: E402
-from rosgraph_msgs.msg import Clock  # noqa: E402
 from sensor_msgs.msg import Imu  # noqa: E402
 from tether_msgs.msg import PlatformState  # noqa: E402
 
 from psr_platform_sim.platform_params import PARAMETERS  # noqa: E402
 from psr_platform_sim.platform_params import from_params  # noqa: E402
 from psr_platform_sim.simulator import PlatformSimulator  # noqa: E402
-from tether_bringup.barrier import Barrier  # noqa: E402
 from tether_common.qos import SENSOR  # noqa: E402
 from tether_common.qos import STATE  # noqa: E402
 
@@ -36,7 +34,7 @@ def _start_node(tmp_path, *extra):
     return subprocess.Popen(cmd, env=env, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
 
 
-def test_node_publishes_on_sim_time(tmp_path, ros_domain):
+def test_node_publishes_on_sim_time(tmp_path, ros_domain, lockstep_master):
     process = _start_node(tmp_path, '-p', 'profile:=hpr3', '-p', 'seed:=3')
     rclpy.init()
     node = rclpy.create_node('probe')
@@ -45,26 +43,13 @@ def test_node_publishes_on_sim_time(tmp_path, ros_domain):
     node.create_subscription(PoseStamped, '/platform/reel_pose', got['pose'].append, STATE)
     node.create_subscription(TwistStamped, '/platform/reel_twist', got['twist'].append, STATE)
     node.create_subscription(Imu, '/platform/imu', got['imu'].append, SENSOR)
-    clock = node.create_publisher(Clock, '/clock', 10)
-    barrier = Barrier(node, ['/platform'])
-
-    def spin_until_acked(time_ns: int) -> None:
-        """Spin until the node has acked ``time_ns``; a guard against a hang, not a speed limit."""
-        deadline = time.monotonic() + 120.0
-        while not barrier.reached(time_ns):
-            assert time.monotonic() < deadline, f'the platform did not ack {time_ns} ns within 120 s'
-            assert process.poll() is None, process.communicate()[1]
-            rclpy.spin_once(node, timeout_sec=0.01)
-
+    master = lockstep_master(node, ['/platform'], [process])
     try:
-        spin_until_acked(0)  # joined
+        master.wait_acked(0)  # joined
         sim_ns = 1_000_000_000  # the clock starts late: the node runs every tick from the first
         for _ in range(60):  # /clock advances once the node has acked the last step, as in a run
             sim_ns += 10_000_000
-            msg = Clock()
-            msg.clock.sec, msg.clock.nanosec = divmod(sim_ns, 1_000_000_000)
-            clock.publish(msg)
-            spin_until_acked(sim_ns)
+            master.step_to(sim_ns)
         end = time.monotonic() + 1.0
         while time.monotonic() < end:
             rclpy.spin_once(node, timeout_sec=0.01)

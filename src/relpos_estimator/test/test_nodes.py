@@ -16,17 +16,15 @@ import pytest
 
 rclpy = pytest.importorskip('rclpy')
 
-from rosgraph_msgs.msg import Clock  # noqa: E402
 from sensor_msgs.msg import Imu  # noqa: E402
 from tether_msgs.msg import DgpsFix  # noqa: E402
 from tether_msgs.msg import RelativeEstimate  # noqa: E402
 from tether_msgs.msg import RelativePosition  # noqa: E402
 
 from relpos_estimator.sensors_node import STATE_INPUT  # noqa: E402
-from tether_bringup.barrier import Barrier  # noqa: E402
 
 
-def test_sensors_and_estimator_track_the_platform(tmp_path, ros_domain):
+def test_sensors_and_estimator_track_the_platform(tmp_path, ros_domain, lockstep_master):
     common = ['--ros-args', '-p', 'use_sim_time:=true']
     commands = [
         ['psr_platform_sim.platform_node', '-p', 'profile:=hpr1', '-p', 'profile_duration:=20.0',
@@ -43,26 +41,13 @@ def test_sensors_and_estimator_track_the_platform(tmp_path, ros_domain):
     node.create_subscription(DgpsFix, '/dgps/fix', got['fix'].append, STATE_INPUT)
     node.create_subscription(RelativeEstimate, '/estimate/relative', got['estimate'].append, STATE_INPUT)
     node.create_subscription(RelativePosition, '/truth/relative', got['truth'].append, STATE_INPUT)
-    clock = node.create_publisher(Clock, '/clock', 10)
-    barrier = Barrier(node, ['/platform', '/sensors', '/estimator'])
-
-    def spin_until_acked(time_ns: int) -> None:
-        """Spin the probe until every node has acked ``time_ns``; a guard against a hang, not a speed limit."""
-        deadline = time.monotonic() + 120.0
-        while not barrier.reached(time_ns):
-            assert time.monotonic() < deadline, f'no ack of {time_ns} ns within 120 s: {barrier.behind(time_ns)}'
-            assert all(p.poll() is None for p in processes), 'a node ended early'
-            rclpy.spin_once(node, timeout_sec=0.01)
-
+    master = lockstep_master(node, ['/platform', '/sensors', '/estimator'], processes)
     try:
         sim_ns = 0
-        spin_until_acked(0)  # every node joined
+        master.wait_acked(0)  # every node joined
         while sim_ns < 8_000_000_000:  # /clock advances only once every node has acked it, as in a run
             sim_ns += 10_000_000
-            msg = Clock()
-            msg.clock.sec, msg.clock.nanosec = divmod(sim_ns, 1_000_000_000)
-            clock.publish(msg)
-            spin_until_acked(sim_ns)
+            master.step_to(sim_ns)
         end = time.monotonic() + 2.0
         while time.monotonic() < end:
             rclpy.spin_once(node, timeout_sec=0.01)
