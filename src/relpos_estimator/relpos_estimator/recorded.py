@@ -23,8 +23,8 @@ from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
-from rosbags.highlevel import AnyReader
-from rosbags.highlevel import AnyReaderError
+from tether_bringup.bag_reader import read_bag
+from tether_bringup.errors import BagError
 
 from relpos_estimator.dgps import STATUS_RTK_FIXED
 from relpos_estimator.dgps import Fix
@@ -64,30 +64,21 @@ class Recording:
 
 def read_recording(bag: Path) -> Recording:
     """Decode one bag (file, bag directory or run directory)."""
-    path = Path(bag)
-    if (path / 'bag').is_dir():
-        path = path / 'bag'
     rec = Recording(name=Path(bag).name)
     try:
-        with AnyReader([path]) as reader:
-            connections = [c for c in reader.connections if c.topic in TOPICS]
-            for connection, _, raw in reader.messages(connections=connections):
-                m = reader.deserialize(raw, connection.msgtype)
-                topic = connection.topic
-                if topic == '/imu/reel':
-                    rec.reel[stamp_ns(m.header.stamp)] = imu_vertical(m)
-                elif topic == '/imu/uav':
-                    rec.uav[stamp_ns(m.header.stamp)] = imu_vertical(m)
-                elif topic == '/dgps/fix':
-                    rec.fixes.append(fix_from_message(m))
-                elif topic == '/truth/relative':
-                    rec.truth[stamp_ns(m.header.stamp)] = m.position.z
-                else:
-                    rec.faults.append(RecordedFault(m.sensor, m.kind_name, stamp_ns(m.header.stamp) * 1e-9,
-                                                    stamp_ns(m.fix_time) * 1e-9, m.sequence,
-                                                    np.array([m.truth.x, m.truth.y, m.truth.z])))
-    except (AnyReaderError, FileNotFoundError) as error:
-        raise ValueError(f'{bag}: cannot read the bag: {error}') from None
+        recorded = read_bag(bag, list(TOPICS))
+        for _, m in recorded.decoded('/imu/reel', required=False):
+            rec.reel[stamp_ns(m.header.stamp)] = imu_vertical(m)
+        for _, m in recorded.decoded('/imu/uav', required=False):
+            rec.uav[stamp_ns(m.header.stamp)] = imu_vertical(m)
+        rec.fixes = [fix_from_message(m) for _, m in recorded.decoded('/dgps/fix', required=False)]
+        for _, m in recorded.decoded('/truth/relative', required=False):
+            rec.truth[stamp_ns(m.header.stamp)] = m.position.z
+        rec.faults = [RecordedFault(m.sensor, m.kind_name, stamp_ns(m.header.stamp) * 1e-9,
+                                    stamp_ns(m.fix_time) * 1e-9, m.sequence, np.array([m.truth.x, m.truth.y, m.truth.z]))
+                      for _, m in recorded.decoded('/sensors/faults', required=False)]
+    except BagError as error:
+        raise ValueError(f'cannot read the bag: {error}') from None
     if not rec.reel:
         raise ValueError(f'{bag}: no /imu/reel messages: not a recording of the sensors node')
     if not rec.truth:
@@ -136,23 +127,15 @@ def replay(rec: Recording, estimator: Estimator, fixes: list[Fix] | None = None,
 
 def read_outputs(bag: Path) -> Outputs:
     """The estimator node's outputs recorded in a bag (``/estimate/relative``, ``/estimate/foh``, rejections)."""
-    path = Path(bag)
-    if (path / 'bag').is_dir():
-        path = path / 'bag'
-    estimate, foh = {}, {}
     out = Outputs({}, Counter())
-    topics = ('/estimate/relative', '/estimate/foh', '/estimate/rejections')
     try:
-        with AnyReader([path]) as reader:
-            connections = [c for c in reader.connections if c.topic in topics]
-            for connection, _, raw in reader.messages(connections=connections):
-                m = reader.deserialize(raw, connection.msgtype)
-                if connection.topic == '/estimate/rejections':
-                    out.rejected[(m.sequence, stamp_ns(m.fix_time))] += 1
-                else:
-                    (estimate if connection.topic == '/estimate/relative' else foh)[stamp_ns(m.header.stamp)] = m
-    except (AnyReaderError, FileNotFoundError) as error:
-        raise ValueError(f'{bag}: cannot read the bag: {error}') from None
+        recorded = read_bag(bag, ['/estimate/relative', '/estimate/foh', '/estimate/rejections'])
+        estimate = {stamp_ns(m.header.stamp): m for _, m in recorded.decoded('/estimate/relative', required=False)}
+        foh = {stamp_ns(m.header.stamp): m for _, m in recorded.decoded('/estimate/foh', required=False)}
+        for _, m in recorded.decoded('/estimate/rejections', required=False):
+            out.rejected[(m.sequence, stamp_ns(m.fix_time))] += 1
+    except BagError as error:
+        raise ValueError(f'cannot read the bag: {error}') from None
     if not estimate:
         raise ValueError(f'{bag}: no /estimate/relative messages')
     for t_ns, m in estimate.items():

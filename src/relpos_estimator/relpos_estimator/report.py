@@ -16,8 +16,10 @@ import matplotlib
 matplotlib.use('Agg')
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
-from rosbags.highlevel import AnyReader  # noqa: E402
-from rosbags.highlevel import AnyReaderError  # noqa: E402
+from tether_bringup.bag_reader import read_bag  # noqa: E402
+from tether_bringup.errors import BagError  # noqa: E402
+
+from relpos_estimator.messages import stamp_ns  # noqa: E402
 
 THESIS_TABLE_6_1 = {
     'heave only': (0.00256, 0.00418, 0.00488, 0.00783),
@@ -28,35 +30,19 @@ THESIS_TABLE_6_1 = {
 """Filter mean error, filter RMSE, FOH mean error, FOH RMSE (m), 4 Hz de-rated MoCap, no faults."""
 
 
-def _ns(stamp) -> int:
-    return stamp.sec * 1_000_000_000 + stamp.nanosec
-
-
 def read_run(bag_path: Path) -> dict:
     """Truth, estimate and FOH altitudes by stamp, the faults and the rejections of a bag."""
-    topics = {'/truth/relative', '/estimate/relative', '/estimate/foh', '/sensors/faults', '/estimate/rejections'}
-    data = {'truth': {}, 'estimate': {}, 'foh': {}, 'faults': [], 'rejections': []}
+    topics = ['/truth/relative', '/estimate/relative', '/estimate/foh', '/sensors/faults', '/estimate/rejections']
     try:
-        with AnyReader([Path(bag_path)]) as reader:
-            connections = [c for c in reader.connections if c.topic in topics]
-            for connection, _, raw in reader.messages(connections=connections):
-                m = reader.deserialize(raw, connection.msgtype)
-                t = _ns(m.header.stamp)
-                if connection.topic == '/truth/relative':
-                    data['truth'][t] = m.position.z
-                elif connection.topic == '/estimate/relative':
-                    if m.initialized:
-                        data['estimate'][t] = m.dz
-                elif connection.topic == '/estimate/foh':
-                    if m.initialized:
-                        data['foh'][t] = m.dz
-                elif connection.topic == '/sensors/faults':
-                    data['faults'].append((m.sensor, m.kind_name, t))
-                else:
-                    data['rejections'].append((m.reason_name, _ns(m.fix_time)))
-    except AnyReaderError as error:
-        raise ValueError(f'{bag_path}: cannot read the bag: {error}') from None
-    return data
+        bag = read_bag(bag_path, topics)
+        truth, estimate, foh, faults, rejections = (bag.decoded(topic, required=False) for topic in topics)
+    except BagError as error:
+        raise ValueError(f'cannot read the bag: {error}') from None
+    return {'truth': {stamp_ns(m.header.stamp): m.position.z for _, m in truth},
+            'estimate': {stamp_ns(m.header.stamp): m.dz for _, m in estimate if m.initialized},
+            'foh': {stamp_ns(m.header.stamp): m.dz for _, m in foh if m.initialized},
+            'faults': [(m.sensor, m.kind_name, stamp_ns(m.header.stamp)) for _, m in faults],
+            'rejections': [(m.reason_name, stamp_ns(m.fix_time)) for _, m in rejections]}
 
 
 def errors(data: dict) -> dict[str, np.ndarray]:

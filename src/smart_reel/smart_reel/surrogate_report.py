@@ -95,7 +95,7 @@ def _stamp(msg) -> float:
 
 def _rows(bag: Bag, topic: str, fields) -> dict[str, np.ndarray]:
     rows = []
-    for _, m in bag.decoded(topic) if topic in bag.topics else []:
+    for _, m in bag.decoded(topic, required=False):
         rows.append([_stamp(m)] + [f(m) for f in fields.values()])
     data = np.array(rows, dtype=float).reshape(-1, len(fields) + 1)
     order = np.argsort(data[:, 0], kind='stable')

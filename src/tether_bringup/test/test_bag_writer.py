@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import pytest
 import rclpy
 import yaml
 from mcap.reader import make_reader
@@ -12,6 +13,7 @@ from geometry_msgs.msg import PointStamped
 from rosgraph_msgs.msg import Clock
 from tether_bringup.bag_reader import read_bag
 from tether_bringup.bag_writer import BagWriter
+from tether_bringup.errors import BagError
 from tether_bringup.bag_writer import QosRecord
 from tether_bringup.bag_writer import dump_qos_profiles
 from tether_bringup.bag_writer import load_qos_profiles
@@ -50,6 +52,10 @@ def test_written_messages_read_back_with_rosbags_and_reader(tmp_path):
         lengths = [reader.deserialize(raw, c.msgtype).deployed_length
                    for c, _, raw in reader.messages() if c.topic == '/reel/state']
     assert lengths == [1.0 + i for i in range(20)]
+    assert [m.deployed_length for _, m in bag.decoded('/reel/state', required=False)] == lengths
+    assert bag.decoded('/absent', required=False) == []
+    with pytest.raises(BagError, match='no messages on topic /absent'):
+        bag.decoded('/absent')
     metadata = yaml.safe_load((tmp_path / 'bag' / 'metadata.yaml').read_text())['rosbag2_bagfile_information']
     assert metadata['message_count'] == 40
     assert metadata['relative_file_paths'] == ['bag_0.mcap']

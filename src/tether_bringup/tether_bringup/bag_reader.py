@@ -78,9 +78,14 @@ class Bag:
         more = f' (and {len(self.damage) - 1} more damaged place(s))' if len(self.damage) > 1 else ''
         return f'{self.damage[0]}{more}'
 
-    def decoded(self, topic: str) -> list[tuple[int, Any]]:
-        """Return (log time ns, decoded message) of every message on ``topic``."""
+    def decoded(self, topic: str, required: bool = True) -> list[tuple[int, Any]]:
+        """Return (log time ns, decoded message) of every message on ``topic``.
+
+        A topic the bag does not have is an error, or no messages when not ``required``.
+        """
         if topic not in self.topics:
+            if not required:
+                return []
             known = ', '.join(sorted(self.topics)) or 'none'
             raise BagError(f'{self.path}: no messages on topic {topic} (topics: {known})')
         entry = self.topics[topic]

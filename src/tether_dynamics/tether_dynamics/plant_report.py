@@ -75,10 +75,10 @@ def read_run(bag_path: Path) -> TetherRun:
     """
     rows, node_t, nodes, fidelity, elements = [], [], [], '', 0
     bag = read_bag(bag_path)
-    for _, m in bag.decoded(NODES) if NODES in bag.topics else []:
+    for _, m in bag.decoded(NODES, required=False):
         node_t.append(_seconds(m.header.stamp))
         nodes.append(np.array([(p.x, p.y, p.z) for p in m.positions]).reshape(-1, 3))
-    for _, m in bag.decoded(STATE) if STATE in bag.topics else []:
+    for _, m in bag.decoded(STATE, required=False):
         fidelity, elements = m.fidelity, m.element_count
         rows.append((_seconds(m.header.stamp), m.reel_end.x, m.reel_end.y, m.reel_end.z,
                      m.uav_end.x, m.uav_end.y, m.uav_end.z, m.deployed_length, m.tension_reel,
