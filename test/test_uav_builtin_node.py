@@ -1,4 +1,4 @@
-"""The mission flying the built-in UAV node: the bridge's interface without an autopilot, a tether pull."""
+"""The mission flying the built-in UAV node over /uav/command (lockstep inputs both ways), against a tether pull."""
 
 from __future__ import annotations
 
@@ -13,6 +13,7 @@ from rclpy.clock import Clock as RosClock  # noqa: E402
 from rclpy.clock import ClockType  # noqa: E402
 from rosgraph_msgs.msg import Clock  # noqa: E402
 from tether_msgs.msg import MissionState  # noqa: E402
+from tether_msgs.msg import ReelControllerDiagnostics  # noqa: E402
 from tether_msgs.msg import ReelState  # noqa: E402
 
 from tether_common.qos import CLOCK  # noqa: E402
@@ -26,14 +27,19 @@ from test_uav_mission_node import assert_clean_exits  # noqa: E402
 from test_uav_mission_node import stop_nodes  # noqa: E402
 
 
-def publish_clock_and_wrench(probe, pull: WrenchStamped) -> None:
-    """Drive ``/clock`` at wall speed in 10 ms steps and, as the plant would, a wrench stamped with each step.
+def publish_clock_wrench_and_reel(probe, pull: WrenchStamped, reel: ReelState) -> None:
+    """Drive ``/clock`` at wall speed in 10 ms steps and, as the plant and the reel would, a wrench, a reel state
+    and reel diagnostics stamped with each step.
 
-    The built-in UAV takes ``/tether/uav_wrench`` as a lockstep input (one step late), so
-    every step needs its wrench; ``pull`` is the force sent (zero until the test sets it).
+    The built-in UAV takes ``/tether/uav_wrench`` as a lockstep input (one step late), the
+    mission ``/reel/state`` and ``/reel/diagnostics`` (no delay), so every step needs them;
+    ``pull`` is the force sent (zero until the test sets it), ``reel`` the reel state.
     """
     clock = probe.node.create_publisher(Clock, '/clock', CLOCK)
     wrench = probe.node.create_publisher(WrenchStamped, '/tether/uav_wrench', STATE)
+    reel_state = probe.node.create_publisher(ReelState, '/reel/state', STATE)
+    diagnostics = probe.node.create_publisher(ReelControllerDiagnostics, '/reel/diagnostics', STATE)
+    reasons = ReelControllerDiagnostics()
     start = time.monotonic()
     sent = [0]
 
@@ -44,39 +50,43 @@ def publish_clock_and_wrench(probe, pull: WrenchStamped) -> None:
         sent[0] = step
         msg = Clock()
         msg.clock.sec, msg.clock.nanosec = divmod(step * 10_000_000, 1_000_000_000)
-        pull.header.stamp = msg.clock
+        pull.header.stamp = reel.header.stamp = reasons.header.stamp = msg.clock
+        reasons.safety_trip = 'test trip' if reel.mode == ReelState.MODE_FAULT else ''
         wrench.publish(pull)
+        reel_state.publish(reel)
+        diagnostics.publish(reasons)
         clock.publish(msg)
     probe.node.create_timer(0.01, tick, clock=RosClock(clock_type=ClockType.STEADY_TIME))
 
 
 def test_mission_flies_the_builtin_uav_against_a_tether_pull(ros_domain):  # noqa: F811
     processes = [
-        _start('uav_bridge.builtin_uav_node', 'start:=[0.0, 0.0, 0.3]', 'tether_force:=topic', domain=ros_domain),
-        _start('uav_bridge.mission_node', 'altitude:=5.0', 'radial:=2.5', 'retry_period:=0.5', domain=ros_domain)]
+        _start('uav_bridge.builtin_uav_node', 'start:=[0.0, 0.0, 0.3]', 'tether_force:=topic', 'command_rate:=10.0',
+               domain=ros_domain),
+        _start('uav_bridge.mission_node', 'altitude:=5.0', 'radial:=2.5', 'retry_period:=0.5', 'reel_rate:=100.0',
+               domain=ros_domain)]
     probe = Probe()
     pull = WrenchStamped()
     pull.header.frame_id = 'world'
-    publish_clock_and_wrench(probe, pull)
+    reel = ReelState()
+    publish_clock_wrench_and_reel(probe, pull, reel)
     phases = []
     probe.node.create_subscription(MissionState, '/mission/state', phases.append, LATCHED)
-    reel = probe.node.create_publisher(ReelState, '/reel/state', STATE)
     try:
         wait_until(lambda: probe.state() is not None, timeout=60, what='/uav/state')
         assert probe.state().position_ready and probe.state().connected
         wait_until(lambda: phases and phases[-1].phase == 'hold', timeout=60, what='the hold phase')
-        assert phases[0].phase == 'wait' and {'arm', 'takeoff', 'climb'} <= {p.phase for p in phases}
+        # the UAV's state stamped 0.1 s is the mission's first step's input: it arms at once
+        assert [p.phase for p in phases][:4] == ['arm', 'takeoff', 'climb', 'hold']
         pull.wrench.force.x, pull.wrench.force.z = -2.0, -3.0      # toward the reel and down
         wait_until(lambda: probe.got['pose'] and abs(probe.got['pose'][-1].pose.position.x - 2.5) < 0.03
                    and abs(probe.got['pose'][-1].pose.position.z - 5.0) < 0.03
                    and abs(probe.got['twist'][-1].twist.linear.x) < 0.01, timeout=60, what='the station')
         assert probe.got['pose'][-1].header.frame_id == 'world' and probe.got['imu'][-1].header.frame_id == 'uav'
         assert probe.state().ready and probe.state().mode == 'GUIDED'
-        trip = ReelState()
-        trip.mode = ReelState.MODE_FAULT
-        reel.publish(trip)
+        reel.mode = ReelState.MODE_FAULT
         wait_until(lambda: phases[-1].phase == 'landed', timeout=60, what='landed after the reel trip')
-        assert phases[-1].aborted
+        assert phases[-1].aborted and 'test trip' in phases[-1].reason
         assert probe.got['pose'][-1].pose.position.z == pytest.approx(0.3)
     finally:
         probe.close()

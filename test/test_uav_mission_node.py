@@ -73,7 +73,7 @@ def test_mission_holds_station_and_lands_on_a_reel_trip(ros_domain):  # noqa: F8
         _start('uav_bridge.mavlink_bridge', f'url:=tcp:127.0.0.1:{peer.port}', 'pose_rate:=20.0', 'imu_rate:=5.0',
                'global_rate:=1.0', 'link_timeout:=1.0', domain=ros_domain),
         _start('uav_bridge.mission_node', 'altitude:=5.0', 'radial:=2.5', 'bearing:=90.0', 'retry_period:=0.5',
-               domain=ros_domain)]
+               'uav_link:=services', domain=ros_domain)]
     probe = Probe()
     publish_clock(probe)
     phases = []

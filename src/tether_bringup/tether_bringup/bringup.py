@@ -43,6 +43,7 @@ from tether_bringup.recorder_params import DEFAULT_EXCLUDE
 from tether_bringup.scene import LOCKSTEP_WINDOW
 from tether_bringup.scene import NodeConfig
 from tether_bringup.sim_clock import rate_text
+from tether_common.lockstep import END_VARIABLE
 from tether_common.lockstep import NODES_VARIABLE
 from tether_common.node_main import make_executor
 
@@ -85,6 +86,7 @@ def execute(nodes: list[NodeConfig], source, options: RunOptions) -> int:
     out.mkdir(parents=True, exist_ok=True)
     env = run_environment(options.domain_id, options.discovery, str(out / 'logs' / 'ros'))
     env[NODES_VARIABLE] = ','.join(['tethersim', 'recorder'] + [config.name for config in nodes])
+    env[END_VARIABLE] = f'{source.end_time:.9f}'
     os.environ.update({key: env[key] for key in ('ROS_DOMAIN_ID', 'ROS_AUTOMATIC_DISCOVERY_RANGE', 'ROS_LOG_DIR')})
     os.environ.pop('ROS_LOCALHOST_ONLY', None)
 

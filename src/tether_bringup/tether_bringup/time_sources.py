@@ -40,6 +40,11 @@ class PacedClock:
     def clock_publisher(self):
         return self._publisher
 
+    @property
+    def end_time(self) -> float:
+        """Sim time at which the run ends, s."""
+        return self.duration
+
     def matched(self, node: Node) -> bool:
         """The paced clock has no publishers but /clock (checked by the bringup)."""
         return True
@@ -95,6 +100,11 @@ class BagPlayback:
     @property
     def clock_publisher(self):
         return self._clock_publisher
+
+    @property
+    def end_time(self) -> float:
+        """Sim time at which the replay ends (the bag's last log time), s."""
+        return self.end_ns / 1e9
 
     def matched(self, node: Node) -> bool:
         """True once every replay publisher has matched every subscription in the graph."""

@@ -75,11 +75,22 @@ from tether_common.qos import STATE
 
 ACK_TOPIC = '/lockstep/ack'
 NODES_VARIABLE = 'TETHERSIM_NODES'
+END_VARIABLE = 'TETHERSIM_END'
+"""Set by the bringup for its nodes: the sim time (s) at which the run ends (:func:`run_end`)."""
 JOIN_CHECK_PERIOD = 0.05
 JOIN_SETTLE = 0.5
 STALL_LOG_PERIOD = 5.0
 INPUT_DEPTH = 100
 NS = 1_000_000_000
+
+
+def run_end() -> float | None:
+    """Sim time (s) at which the run ends (``TETHERSIM_END``, set by the bringup); None outside a run."""
+    value = os.environ.get(END_VARIABLE, '')
+    try:
+        return float(value) if value else None
+    except ValueError:
+        raise ConfigurationError(f'{END_VARIABLE}={value!r}: expected the run\'s end in s of sim time') from None
 
 
 class LockstepError(ConfigurationError):

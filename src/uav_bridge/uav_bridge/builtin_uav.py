@@ -120,6 +120,18 @@ class BuiltinUav:
         self.reference = self.body[bodies.BS_POS:bodies.BS_POS + 3].copy()
         return True, 'land accepted'
 
+    def request(self, kind: str, mode: str = '', arm: bool = True, altitude: float = 0.0) -> tuple[bool, str]:
+        """Carry out one request of the mission by name: set_mode, arm, takeoff or land."""
+        if kind == 'set_mode':
+            return self.set_mode(mode)
+        if kind == 'arm':
+            return self.arm(arm)
+        if kind == 'takeoff':
+            return self.takeoff(altitude)
+        if kind == 'land':
+            return self.land()
+        return False, f'unknown request {kind!r}; known: set_mode, arm, takeoff, land'
+
     def setpoint(self, position) -> bool:
         """A position target in world, used in GUIDED while armed."""
         if self.mode != 'GUIDED' or not self.armed:

@@ -2,20 +2,38 @@
 
 A thin wrapper around :class:`uav_bridge.builtin_uav.BuiltinUav` (the plant's UAV rigid body
 under the cascaded station controller). It publishes what ``mavlink_bridge`` publishes —
-``/uav/pose``, ``/uav/twist`` (``world``), ``/uav/imu`` (``uav``, FLU), ``/uav/state``
-(transient local) — and serves the same ``/uav/set_mode``, ``/uav/arm``, ``/uav/takeoff``,
-``/uav/land`` and ``/uav/setpoint``, so the mission node flies either one. With ``tether_force: topic`` the tether's force on
-the UAV comes from the plant on ``/tether/uav_wrench`` (geometry_msgs/WrenchStamped, world),
-a lockstep input (:mod:`tether_common.lockstep`) with a delay of one wrench period: the tick
-at t integrates the body over [t - period, t] under the wrench stamped t - period, the
-plant's force at the start of the interval, and publishes the pose stamped t that the
-plant's tick t takes with no delay. That delay is the explicit one-step delay of the loop
-UAV pose → plant → wrench → UAV. Before the first wrench the force is zero.
+``/uav/pose``, ``/uav/twist`` (``world``), ``/uav/imu`` (``uav``, FLU) at every tick,
+``/uav/state`` (transient local) at every multiple of 1/``state_rate`` — and everything it
+does is fixed by stamps (:mod:`tether_common.lockstep`):
+
+* With ``tether_force: topic`` the tether's force on the UAV comes from the plant on
+  ``/tether/uav_wrench`` (geometry_msgs/WrenchStamped, world), a lockstep input with a delay
+  of one wrench period: the tick at t integrates the body over [t - period, t] under the
+  wrench stamped t - period, the plant's force at the start of the interval, and publishes
+  the pose stamped t that the plant's tick t takes with no delay. That delay is the explicit
+  one-step delay of the loop UAV pose → plant → wrench → UAV. Before the first wrench the
+  force is zero.
+* With ``command_rate`` > 0 the mission's ``/uav/command`` (tether_msgs/UavCommand) is a
+  lockstep input with a delay of one command period P: the tick at t takes the command
+  stamped t − P (the mission's step before), carries out its request once per sequence
+  number before integrating, and flies to its setpoint while it holds. The request's outcome
+  (``command_sequence``, ``command_success``, ``command_message``) is in the ``/uav/state``
+  stamped t (t − P is a mission step, so a multiple of P; with ``state_rate`` = the mission's
+  rate, also a state tick). A request of the mission's step s thus takes effect at s + P and
+  its answer reaches the mission's step s + P: the loop mission → UAV → mission's one-step delay.
+
+The services ``/uav/set_mode``, ``/uav/arm``, ``/uav/takeoff``, ``/uav/land`` and the topic
+``/uav/setpoint`` (geometry_msgs/PoseStamped, ``world``) are served as the bridge serves them,
+for calls by hand (``ros2 service call``): they take effect on arrival, between ticks, so a
+run driven by them is not reproducible. With ``command_rate`` > 0 ``/uav/setpoint`` is not
+subscribed (the mission's setpoint comes in ``/uav/command``).
 """
 
 from __future__ import annotations
 
 import sys
+
+import copy
 
 import numpy as np
 from geometry_msgs.msg import PoseStamped
@@ -26,6 +44,7 @@ from scipy.spatial.transform import Rotation
 from sensor_msgs.msg import Imu
 from std_srvs.srv import SetBool
 from std_srvs.srv import Trigger
+from tether_msgs.msg import UavCommand
 from tether_msgs.msg import UavState
 from tether_msgs.srv import SetMode
 from tether_msgs.srv import Takeoff
@@ -34,18 +53,24 @@ from tether_common.node_main import ConfigurationError
 from tether_common.node_main import run_node
 from tether_common.qos import COMMAND
 from tether_common.qos import LATCHED
+from tether_common.qos import LOOP
 from tether_common.qos import SENSOR
 from tether_common.qos import STATE
 from tether_common.ros_parameters import declare_parameters
 from tether_common.lockstep import Input
 from tether_common.lockstep import Lockstep
 from tether_common.lockstep import Tick
+from tether_common.lockstep import period_ns
 from uav_bridge.builtin_uav import BuiltinUav
 from uav_bridge.builtin_uav import BuiltinUavConfig
 from uav_bridge.builtin_uav_params import PARAMETERS
 from uav_bridge.ros_fill import fill_quaternion
 from uav_bridge.ros_fill import fill_vector
 from uav_bridge.ros_fill import pose_and_twist
+
+STATE_QOS = copy.copy(LATCHED)
+STATE_QOS.depth = STATE.depth
+"""/uav/state: latched (transient local) as the bridge's, with a history for the mission's lockstep reader."""
 
 
 class BuiltinUavNode(Node):
@@ -60,6 +85,9 @@ class BuiltinUavNode(Node):
                     raise ValueError(f'parameter {name}: expected 3 numbers, got {params[name]}')
             if min(params['inertia']) <= 0.0:
                 raise ValueError(f'parameter inertia: expected positive moments, got {params["inertia"]}')
+            if period_ns(1.0 / params['state_rate']) % period_ns(1.0 / params['rate']):
+                raise ValueError(f'parameter state_rate: {params["state_rate"]:g} Hz is not rate '
+                                 f'{params["rate"]:g} Hz divided by a whole number (states go out at ticks)')
         except ValueError as error:
             raise ConfigurationError(str(error)) from None
         self.uav = BuiltinUav(BuiltinUavConfig(
@@ -68,25 +96,35 @@ class BuiltinUavNode(Node):
         self.pose_pub = self.create_publisher(PoseStamped, '/uav/pose', SENSOR)
         self.twist_pub = self.create_publisher(TwistStamped, '/uav/twist', SENSOR)
         self.imu_pub = self.create_publisher(Imu, '/uav/imu', SENSOR)
-        self.state_pub = self.create_publisher(UavState, '/uav/state', LATCHED)
-        self.create_subscription(PoseStamped, '/uav/setpoint', self.setpoint_callback, COMMAND)
+        self.state_pub = self.create_publisher(UavState, '/uav/state', STATE_QOS)
+        if not params['command_rate']:
+            self.create_subscription(PoseStamped, '/uav/setpoint', self.setpoint_callback, COMMAND)
         self.create_service(SetMode, '/uav/set_mode', self.set_mode_callback)
         self.create_service(SetBool, '/uav/arm', self.arm_callback)
         self.create_service(Takeoff, '/uav/takeoff', self.takeoff_callback)
         self.create_service(Trigger, '/uav/land', self.land_callback)
-        self._last_state: tuple | None = None
-        self._next_state_ns = 0
+        self.state_period_ns = period_ns(1.0 / params['state_rate'])
+        self.outcome = (0, False, '')
         self.lockstep = Lockstep(self)
         wrench_period = 1.0 / params['wrench_rate']
         inputs = ([Input('/tether/uav_wrench', WrenchStamped, wrench_period, wrench_period, STATE)]
                   if params['tether_force'] == 'topic' else [])
+        if params['command_rate']:
+            command_period = 1.0 / params['command_rate']
+            inputs.append(Input('/uav/command', UavCommand, command_period, command_period, LOOP))
         self.lockstep.every(1.0 / params['rate'], self.step, inputs)
+        commands = (f'/uav/command at {params["command_rate"]:g} Hz, one period late' if params['command_rate']
+                    else 'services and /uav/setpoint on arrival')
         self.get_logger().info(f'built-in UAV: {params["mass"]:g} kg at {params["start"]} m in world'
                                + (f', hovering {params["start_height"]:g} m above' if params['start_height'] else '')
-                               + f', {params["rate"]:g} Hz, tether force {params["tether_force"]}')
+                               + f', {params["rate"]:g} Hz, tether force {params["tether_force"]}, commands by '
+                               + commands)
 
     def step(self, tick: Tick) -> None:
-        """Advance the body to the tick under the selected wrench and publish it."""
+        """Carry out the selected command, advance the body to the tick under the selected wrench, publish."""
+        command = tick.inputs.get('/uav/command')
+        if command is not None:
+            self.carry_out(command)
         wrench = tick.inputs.get('/tether/uav_wrench')
         force = np.zeros(3) if wrench is None else np.array(
             [wrench.wrench.force.x, wrench.wrench.force.y, wrench.wrench.force.z])
@@ -105,16 +143,23 @@ class BuiltinUavNode(Node):
             np.array([0.0, 0.0, self.uav.config.gravity])
         fill_vector(imu.linear_acceleration, rotation.inv().apply(specific_force))
         self.imu_pub.publish(imu)
-        key = (state.armed, state.mode)
-        if key != self._last_state or tick.time_ns >= self._next_state_ns:
-            self._last_state = key
-            self._next_state_ns = tick.time_ns + 1_000_000_000
+        if tick.time_ns % self.state_period_ns == 0:
             msg = UavState()
             msg.header.stamp = stamp
             msg.connected, msg.armed, msg.mode, msg.position_ready = True, state.armed, state.mode, True
             msg.ready = state.armed and state.mode == 'GUIDED'
             msg.heartbeat_age = 0.0
+            msg.command_sequence, msg.command_success, msg.command_message = self.outcome
             self.state_pub.publish(msg)
+
+    def carry_out(self, command: UavCommand) -> None:
+        """The command's request, once per sequence number, and its setpoint while it holds."""
+        if command.sequence != self.outcome[0]:
+            success, message = self.uav.request(command.request, command.mode, command.arm, command.altitude)
+            self.outcome = (command.sequence, success, message)
+        if command.hold:
+            p = command.setpoint
+            self.uav.setpoint([p.x, p.y, p.z])
 
     def setpoint_callback(self, msg: PoseStamped) -> None:
         """Position target in world."""

@@ -21,6 +21,12 @@ PARAMETERS: tuple[ParamSpec, ...] = (
     ParamSpec('tether_force', 'none', 'the tether\'s force on the UAV: topic (/tether/uav_wrench from the plant, '
               'a lockstep input one wrench_rate period late: the UAV-plant loop\'s delay) or none',
               choices=('none', 'topic'), read_only=True),
+    ParamSpec('command_rate', 0.0, 'rate of /uav/command from the mission (its rate): a lockstep input one period '
+              'late, each request carried out at the tick that selects it; 0: no mission topic, commands by the '
+              'services and /uav/setpoint as they arrive (by hand; not reproducible)', 'Hz', low=0.0, high=100.0,
+              read_only=True),
+    ParamSpec('state_rate', 10.0, '/uav/state messages per second of sim time, one at every multiple of its period '
+              '(the mission\'s uav_state_rate)', 'Hz', low=1.0, high=1000.0, read_only=True),
     ParamSpec('wrench_rate', 100.0, 'rate of /tether/uav_wrench: the plant\'s state_rate (lockstep input period)',
               'Hz', low=1.0, high=1000.0, read_only=True),
 )

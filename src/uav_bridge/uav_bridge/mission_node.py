@@ -1,16 +1,32 @@
 """ROS 2 node ``mission``: take off, hold station over the boat, land (thesis Sec. 5.3, 5.4).
 
-A thin wrapper around :class:`uav_bridge.mission.MissionLogic`, stepped by a sim-time timer
-(lockstep ticks, :mod:`tether_common.lockstep`) at ``rate``. It reads ``/uav/state`` and
-``/uav/pose`` (from the MAVLink bridge or the built-in UAV) and ``/reel/state``; it asks the
-UAV through the services ``/uav/set_mode``, ``/uav/arm``, ``/uav/takeoff``, ``/uav/land``
-(one request at a time, the answer fed to the next step), publishes the station on
-``/uav/setpoint`` (geometry_msgs/PoseStamped, ``world``, zero quaternion: heading kept) while
-holding, and its phase on ``/mission/state`` (tether_msgs/MissionState, transient local).
+A thin wrapper around :class:`uav_bridge.mission.MissionLogic`, stepped at ``rate`` on sim
+time (lockstep ticks, :mod:`tether_common.lockstep`). It publishes its phase on
+``/mission/state`` (tether_msgs/MissionState, transient local) and flies the UAV one request
+at a time (mode, arm, takeoff, land; the answer fed to the next step) over one of two links
+(``uav_link``):
+
+* ``command`` (the built-in UAV; reproducible): every input is a lockstep input selected by
+  stamp. The step at t takes ``/uav/state`` and ``/uav/pose`` stamped ≤ t (no delay) and
+  publishes ``/uav/command`` (tether_msgs/UavCommand) stamped t: the latest request with its
+  sequence number, and the station as the setpoint while holding. The built-in UAV takes
+  that command one mission period P late: a request of the step at t is carried out at the
+  UAV's tick t + P, and its outcome (``UavState.command_sequence``) reaches the mission's step
+  t + P, the first at which the mission may ask again. That one-period delay is the loop
+  mission → UAV → mission's explicit delay. A second task at the reel's control period feeds
+  every ``/reel/state`` with the ``/reel/diagnostics`` of the same stamp (no delay) to the trip
+  monitor, before the mission step of the same time.
+* ``services`` (an autopilot through ``mavlink_bridge``): the services ``/uav/set_mode``,
+  ``/uav/arm``, ``/uav/takeoff``, ``/uav/land`` and the setpoint on ``/uav/setpoint``
+  (geometry_msgs/PoseStamped, ``world``, zero quaternion: heading kept); ``/uav/state``,
+  ``/uav/pose``, ``/reel/state`` and ``/reel/diagnostics`` are used as they arrive. The
+  autopilot runs on its own clock outside the lockstep, so such a run is not reproducible.
 
 A reel trip lands the UAV: the reel in its fault mode (ReelState.MODE_FAULT: a safety trip
 holds it, its reason in ``/reel/diagnostics`` ``safety_trip``) for ``abort_after`` s, or a
-tension estimate above ``abort_tension`` (:class:`uav_bridge.mission.TripMonitor`).
+tension estimate above ``abort_tension`` (:class:`uav_bridge.mission.TripMonitor`). The
+mission lands at ``land_time``, or ``land_before_end`` s before the end of the run
+(:func:`tether_common.lockstep.run_end`), whichever comes first.
 """
 
 from __future__ import annotations
@@ -26,24 +42,42 @@ from std_srvs.srv import Trigger
 from tether_msgs.msg import MissionState
 from tether_msgs.msg import ReelControllerDiagnostics
 from tether_msgs.msg import ReelState
+from tether_msgs.msg import UavCommand
 from tether_msgs.msg import UavState
 from tether_msgs.srv import SetMode
 from tether_msgs.srv import Takeoff
 
+from tether_common.lockstep import Input
+from tether_common.lockstep import Lockstep
+from tether_common.lockstep import Tick
+from tether_common.lockstep import run_end
 from tether_common.node_main import ConfigurationError
 from tether_common.node_main import run_node
 from tether_common.qos import COMMAND
 from tether_common.qos import LATCHED
+from tether_common.qos import LOOP
 from tether_common.qos import SENSOR
 from tether_common.qos import STATE
 from tether_common.ros_parameters import declare_parameters
-from tether_common.lockstep import Lockstep
-from tether_common.lockstep import Tick
 from uav_bridge.mission import Inputs
 from uav_bridge.mission import MissionConfig
 from uav_bridge.mission import MissionLogic
 from uav_bridge.mission import TripMonitor
 from uav_bridge.mission_params import PARAMETERS
+
+ANSWER_TIMEOUT_NS = 1_000_000_000
+"""uav_link command: a request unanswered this long (sim time) means the UAV does not take /uav/command."""
+
+
+def land_time(params: dict, end: float | None) -> float:
+    """The sim time (s) the mission lands at: ``land_time``, or ``land_before_end`` before ``end``, the earlier.
+
+    A run too short for the landing (``end`` ≤ ``land_before_end``) does not land at its end.
+    """
+    times = [params['land_time'] or math.inf]
+    if params['land_before_end'] > 0.0 and end is not None and end > params['land_before_end']:
+        times.append(end - params['land_before_end'])
+    return min(times)
 
 
 class MissionNode(Node):
@@ -55,50 +89,31 @@ class MissionNode(Node):
             params = declare_parameters(self, PARAMETERS)
         except ValueError as error:
             raise ConfigurationError(str(error)) from None
+        end = run_end()
+        if params['land_before_end'] > 0.0 and (end is None or end <= params['land_before_end']):
+            why = (f'the run ends at {end:g} s, too soon for a landing' if end is not None
+                   else 'the run\'s end is not known (not started by tethersim run)')
+            self.get_logger().warning(f'land_before_end {params["land_before_end"]:g} s: {why}; landing only at '
+                                      'land_time or on a reel trip')
         self.logic = MissionLogic(MissionConfig(
             altitude=params['altitude'], radial=params['radial'], bearing=math.radians(params['bearing']),
-            land_time=params['land_time'] or math.inf, climb_tolerance=params['climb_tolerance'],
+            land_time=land_time(params, end), climb_tolerance=params['climb_tolerance'],
             retry_period=params['retry_period']))
         self.abort_tension = params['abort_tension']
         self.trips = TripMonitor(params['abort_after'])
         self.trip_reason = ''
-        self.uav_state: UavState | None = None
-        self.position: np.ndarray | None = None
         self.reel_fault = ''
-        self.pending = None
-        self.answer = None
-        self.create_subscription(UavState, '/uav/state', self.uav_state_callback, LATCHED)
-        self.create_subscription(PoseStamped, '/uav/pose', self.pose_callback, SENSOR)
-        self.create_subscription(ReelState, '/reel/state', self.reel_callback, STATE)
-        self.create_subscription(ReelControllerDiagnostics, '/reel/diagnostics', self.diagnostics_callback, STATE)
-        self.setpoint_pub = self.create_publisher(PoseStamped, '/uav/setpoint', COMMAND)
         self.state_pub = self.create_publisher(MissionState, '/mission/state', LATCHED)
-        self.uav_services = {'set_mode': (self.create_client(SetMode, '/uav/set_mode'), lambda v: SetMode.Request(mode=v)),
-                        'arm': (self.create_client(SetBool, '/uav/arm'), lambda v: SetBool.Request(data=v)),
-                        'takeoff': (self.create_client(Takeoff, '/uav/takeoff'),
-                                    lambda v: Takeoff.Request(altitude=float(v))),
-                        'land': (self.create_client(Trigger, '/uav/land'), lambda v: Trigger.Request())}
         self._published = None
         self.lockstep = Lockstep(self)
-        self.lockstep.every(1.0 / params['rate'], self.step)
+        self.link = CommandLink(self, params) if params['uav_link'] == 'command' else ServiceLink(self)
+        self.lockstep.every(1.0 / params['rate'], self.step, self.link.inputs)
         station = self.logic.station
         self.get_logger().info(f'mission: station {station[2]:g} m up, {math.hypot(*station[:2]):g} m radial '
-                               f'(Δr/Δz {math.hypot(*station[:2]) / station[2]:.2f}) in world')
+                               f'(Δr/Δz {math.hypot(*station[:2]) / station[2]:.2f}) in world, over '
+                               f'{params["uav_link"]}; lands at {self.logic.config.land_time:g} s')
 
-    def uav_state_callback(self, msg: UavState) -> None:
-        """Keep the latest UAV state."""
-        self.uav_state = msg
-
-    def pose_callback(self, msg: PoseStamped) -> None:
-        """Keep the latest UAV position in world."""
-        p = msg.pose.position
-        self.position = np.array([p.x, p.y, p.z])
-
-    def diagnostics_callback(self, msg: ReelControllerDiagnostics) -> None:
-        """Keep the reason of the reel's active safety trip."""
-        self.trip_reason = msg.safety_trip
-
-    def reel_callback(self, msg: ReelState) -> None:
+    def reel_state(self, msg: ReelState) -> None:
         """Feed the trip monitor: fault mode, or tension above the abort threshold."""
         t = msg.header.stamp.sec + msg.header.stamp.nanosec * 1e-9
         if msg.mode == ReelState.MODE_FAULT:
@@ -112,22 +127,14 @@ class MissionNode(Node):
 
     def step(self, tick: Tick) -> None:
         """One mission step at the tick's sim time."""
-        state = self.uav_state
+        state, position, busy, answer = self.link.observe(tick)
         inputs = Inputs(
             connected=bool(state and state.connected and not state.stale),
             position_ready=bool(state and state.position_ready), armed=bool(state and state.armed),
-            mode=state.mode if state else '', position=self.position, reel_fault=self.reel_fault,
-            busy=self.pending is not None, answer=self.answer)
-        self.answer = None
-        out = self.logic.step(tick.time_ns * 1e-9, inputs)
-        if out.request is not None:
-            self._request(*out.request)
-        if out.setpoint is not None:
-            msg = PoseStamped()
-            msg.header.stamp, msg.header.frame_id = tick.stamp, 'world'
-            msg.pose.position.x, msg.pose.position.y, msg.pose.position.z = (float(v) for v in out.setpoint)
-            msg.pose.orientation.w = 0.0
-            self.setpoint_pub.publish(msg)
+            mode=state.mode if state else '', position=position, reel_fault=self.reel_fault,
+            busy=busy, answer=answer)
+        out = self.logic.step(tick.seconds, inputs)
+        self.link.send(tick, out.request, out.setpoint)
         if (out.phase, out.reason) != self._published:
             self._published = (out.phase, out.reason)
             self.get_logger().info(f'mission phase {out.phase}' + (f': {out.reason}' if out.reason else ''))
@@ -137,8 +144,123 @@ class MissionNode(Node):
             msg.station.x, msg.station.y, msg.station.z = (float(v) for v in self.logic.station)
             self.state_pub.publish(msg)
 
-    def _request(self, kind: str, value) -> None:
-        client, build = self.uav_services[kind]
+
+def _position(pose: PoseStamped | None) -> np.ndarray | None:
+    if pose is None:
+        return None
+    p = pose.pose.position
+    return np.array([p.x, p.y, p.z])
+
+
+class CommandLink:
+    """The built-in UAV over ``/uav/command`` and ``/uav/state``, every input selected by stamp."""
+
+    def __init__(self, node: MissionNode, params: dict) -> None:
+        self.node = node
+        self.inputs = [Input('/uav/state', UavState, 1.0 / params['uav_state_rate'], 0.0, STATE),
+                       Input('/uav/pose', PoseStamped, 1.0 / params['uav_pose_rate'], 0.0, SENSOR)]
+        self.publisher = node.create_publisher(UavCommand, '/uav/command', LOOP)
+        self.command = UavCommand()
+        self.command.header.frame_id = 'world'
+        self.waiting = False
+        self.sent_ns = 0
+        self.rate = params['rate']
+        if params['reel_rate']:
+            reel_period = 1.0 / params['reel_rate']
+            node.lockstep.every(reel_period, self.reel_step, [
+                Input('/reel/state', ReelState, reel_period, 0.0, STATE),
+                Input('/reel/diagnostics', ReelControllerDiagnostics, reel_period, 0.0, STATE)])
+
+    def reel_step(self, tick: Tick) -> None:
+        """Feed the reel state of this tick, with its diagnostics' trip reason, to the trip monitor."""
+        state, diagnostics = tick.inputs['/reel/state'], tick.inputs['/reel/diagnostics']
+        if state is None:
+            return
+        self.node.trip_reason = diagnostics.safety_trip if diagnostics is not None else ''
+        self.node.reel_state(state)
+
+    def observe(self, tick: Tick):
+        """UAV state, position, whether a request waits for its outcome, and the outcome that came."""
+        state = tick.inputs['/uav/state']
+        answer = None
+        if self.waiting and state is not None and state.command_sequence == self.command.sequence:
+            self.waiting = False
+            answer = (self.command.request, state.command_success, state.command_message)
+        elif self.waiting and tick.time_ns - self.sent_ns > ANSWER_TIMEOUT_NS:
+            raise ConfigurationError(
+                f'/uav/state has not answered the {self.command.request} request of /uav/command '
+                f'{self.command.sequence} within {ANSWER_TIMEOUT_NS / 1e9:g} s: run the built-in UAV with '
+                f'command_rate {self.rate:g} (the mission\'s rate), or an autopilot with uav_link services')
+        return state, _position(tick.inputs['/uav/pose']), self.waiting, answer
+
+    def send(self, tick: Tick, request, setpoint) -> None:
+        """Publish this step's command: a new request under the next sequence number, the setpoint."""
+        command = self.command
+        if request is not None:
+            kind, value = request
+            command.sequence += 1
+            command.request = kind
+            command.mode = str(value) if kind == 'set_mode' else ''
+            command.arm = bool(value) if kind == 'arm' else False
+            command.altitude = float(value) if kind == 'takeoff' else 0.0
+            self.waiting = True
+            self.sent_ns = tick.time_ns
+        command.header.stamp = tick.stamp
+        command.hold = setpoint is not None
+        if setpoint is not None:
+            command.setpoint.x, command.setpoint.y, command.setpoint.z = (float(v) for v in setpoint)
+        self.publisher.publish(command)
+
+
+class ServiceLink:
+    """An autopilot through the MAVLink bridge's services; its state and the reel's as they arrive."""
+
+    inputs: tuple[Input, ...] = ()
+
+    def __init__(self, node: MissionNode) -> None:
+        self.node = node
+        self.uav_state: UavState | None = None
+        self.position: np.ndarray | None = None
+        self.pending: str | None = None
+        self.answer = None
+        node.create_subscription(UavState, '/uav/state', self._on_state, LATCHED)
+        node.create_subscription(PoseStamped, '/uav/pose', self._on_pose, SENSOR)
+        node.create_subscription(ReelState, '/reel/state', node.reel_state, STATE)
+        node.create_subscription(ReelControllerDiagnostics, '/reel/diagnostics', self._on_diagnostics, STATE)
+        self.setpoint_pub = node.create_publisher(PoseStamped, '/uav/setpoint', COMMAND)
+        self.clients = {'set_mode': (node.create_client(SetMode, '/uav/set_mode'), lambda v: SetMode.Request(mode=v)),
+                        'arm': (node.create_client(SetBool, '/uav/arm'), lambda v: SetBool.Request(data=v)),
+                        'takeoff': (node.create_client(Takeoff, '/uav/takeoff'),
+                                    lambda v: Takeoff.Request(altitude=float(v))),
+                        'land': (node.create_client(Trigger, '/uav/land'), lambda v: Trigger.Request())}
+
+    def _on_state(self, msg: UavState) -> None:
+        self.uav_state = msg
+
+    def _on_pose(self, msg: PoseStamped) -> None:
+        self.position = _position(msg)
+
+    def _on_diagnostics(self, msg: ReelControllerDiagnostics) -> None:
+        self.node.trip_reason = msg.safety_trip
+
+    def observe(self, tick: Tick):
+        """The latest UAV state and position, whether a call is out, and the answer that came since the last step."""
+        answer, self.answer = self.answer, None
+        return self.uav_state, self.position, self.pending is not None, answer
+
+    def send(self, tick: Tick, request, setpoint) -> None:
+        """Call the request's service; publish the setpoint."""
+        if request is not None:
+            self._call(*request)
+        if setpoint is not None:
+            msg = PoseStamped()
+            msg.header.stamp, msg.header.frame_id = tick.stamp, 'world'
+            msg.pose.position.x, msg.pose.position.y, msg.pose.position.z = (float(v) for v in setpoint)
+            msg.pose.orientation.w = 0.0
+            self.setpoint_pub.publish(msg)
+
+    def _call(self, kind: str, value) -> None:
+        client, build = self.clients[kind]
         if not client.service_is_ready():
             self.answer = (kind, False, f'service of {kind} not available')
             return

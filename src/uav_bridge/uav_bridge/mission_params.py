@@ -13,12 +13,27 @@ PARAMETERS: tuple[ParamSpec, ...] = (
               low=-360.0, high=360.0, read_only=True),
     ParamSpec('land_time', 0.0, 'sim time at which the mission lands; 0: only on a reel trip', 's', low=0.0,
               high=1e9, read_only=True),
+    ParamSpec('land_before_end', 0.0, 'land this long before the run ends (the end tethersim run gives its nodes; '
+              'land_time, if earlier, still counts); 0: not before land_time', 's', low=0.0, high=1e6,
+              read_only=True),
     ParamSpec('abort_tension', 0.0, 'land when the reel\'s tension estimate exceeds this; 0: only on the reel\'s '
               'fault mode', 'N', low=0.0, high=1e5, read_only=True),
     ParamSpec('abort_after', 0.0, 'land once a reel trip (fault mode, or the abort tension) has lasted this long; '
               '0: on the first tripped reel state', 's', low=0.0, high=60.0, read_only=True),
     ParamSpec('rate', 10.0, 'mission steps and setpoints per second of sim time', 'Hz', low=0.5, high=100.0,
               read_only=True),
+    ParamSpec('uav_link', 'command', 'how the UAV is flown: command (the built-in UAV: /uav/command at every step, '
+              'its answers in /uav/state; every input a lockstep input, the run reproducible) or services (an '
+              'autopilot through mavlink_bridge: services /uav/*, /uav/setpoint, inputs as they arrive; the '
+              'autopilot runs on its own clock, the run is not reproducible)', choices=('command', 'services'),
+              read_only=True),
+    ParamSpec('uav_state_rate', 10.0, 'uav_link command: rate of /uav/state (the built-in UAV\'s state_rate), a '
+              'lockstep input without delay', 'Hz', low=0.5, high=1000.0, read_only=True),
+    ParamSpec('uav_pose_rate', 100.0, 'uav_link command: rate of /uav/pose (the built-in UAV\'s rate), a lockstep '
+              'input without delay', 'Hz', low=0.5, high=1000.0, read_only=True),
+    ParamSpec('reel_rate', 50.0, 'uav_link command: rate of /reel/state and /reel/diagnostics (the reel\'s '
+              'control_rate), lockstep inputs without delay, each one fed to the trip monitor; 0: no reel in the run',
+              'Hz', low=0.0, high=1000.0, read_only=True),
     ParamSpec('retry_period', 2.0, 'wait after a refused request before asking again', 's', low=0.1, high=60.0,
               read_only=True),
     ParamSpec('climb_tolerance', 0.5, 'take-off altitude counted as reached within this', 'm', low=0.05, high=10.0,

@@ -11,7 +11,10 @@ figures beside the thesis's.
 Definitions. Every statistic is taken over the station-keeping window: from
 :data:`uav_bridge.report.SETTLE` after the UAV's first arrival within
 :data:`uav_bridge.report.ARRIVAL` of the station during the mission's ``hold`` phase to the
-phase's end (:func:`uav_bridge.report.hold_interval`).
+phase's end (:func:`uav_bridge.report.hold_interval`), where the landing starts when the
+mission lands at the end of the scene or on a reel trip (``/mission/state`` phase ``land``).
+The fouling figures cover the flight up to the landing: a UAV landing beside the boat lays
+its tether on the sea.
 
 * station keeping (Sec. 6.3): peak-to-peak and standard deviation of the UAV altitude
   (``/uav/pose`` z) and the largest horizontal distance from its mean position;
@@ -193,14 +196,16 @@ def analyse(run: Run) -> dict:
     result['interval'] = interval
     result['phases'] = list(dict.fromkeys(phase for _, phase, _, _ in run.phases))
     result['end'] = run.phases[-1][2] if run.phases else ''
-    tt = run.tether['t']
-    deck = run.tether['clearance_deck'] + run.guide_height
-    fouled = (deck <= 0.0) | (run.tether['fouling'] > 0.5)
-    sag = run.tether['clearance_deck'] < -SAG
+    result['landing'] = next((t for t, phase, _, _ in run.phases if phase == 'land'), math.inf)
+    flying = run.tether['t'] < result['landing']
+    tt = run.tether['t'][flying]
+    deck = run.tether['clearance_deck'][flying] + run.guide_height
+    fouled = (deck <= 0.0) | (run.tether['fouling'][flying] > 0.5)
+    sag = run.tether['clearance_deck'][flying] < -SAG
     dt = float(np.median(np.diff(tt))) if len(tt) > 1 else 0.0
     result.update(fouling_events=_events(fouled), fouled_time=float(fouled.sum() * dt),
                   sag_time=float(sag.sum() * dt), min_deck=float(deck.min()) if len(tt) else math.nan,
-                  min_sea=float(run.tether['clearance_sea'].min()) if len(tt) else math.nan,
+                  min_sea=float(run.tether['clearance_sea'][flying].min()) if len(tt) else math.nan,
                   first_fouled=float(tt[np.argmax(fouled)]) if fouled.any() else math.nan, trips=run.trips,
                   duration=float(run.poses[-1, 0] - run.poses[0, 0]) if run.poses.shape[0] else 0.0)
     if interval is None:
@@ -256,8 +261,10 @@ def summary_lines(r: dict) -> list[str]:
     else:
         start, end = r['window']
         k, station = r['keeping'], r['station']
+        until = ' to the landing' if end == r['landing'] else ''
         lines.append(f'  station {station[2]:g} m up, {math.hypot(station[0], station[1]):g} m radial; held '
-                     f'{start:.1f}-{end:.1f} s ({end - start:.1f} s, from {SETTLE:g} s after the arrival within {ARRIVAL:g} m)'
+                     f'{start:.1f}-{end:.1f} s ({end - start:.1f} s, from {SETTLE:g} s after the arrival within {ARRIVAL:g} m'
+                     f'{until})'
                      + ('; shorter than the thesis\'s trials (Table 6.3: 512-669 s)'
                         if end - start < THESIS['test_time'] else ''))
         lines.append(f'  UAV altitude peak-to-peak {k["peak_to_peak"]:.3f} m (thesis indoor '
@@ -286,7 +293,8 @@ def summary_lines(r: dict) -> list[str]:
         lines.append('  no tether plant in this run (no /tether/state): no shape, length or fouling figures')
         return lines
     first = f', first at {r["first_fouled"]:.1f} s' if r['fouling_events'] else ''
-    lines.append(f'  fouling: {r["fouling_events"]} events (lowest point on the deck or in the sea), '
+    until = f' until the landing at {r["landing"]:.1f} s' if math.isfinite(r['landing']) else ''
+    lines.append(f'  fouling{until}: {r["fouling_events"]} events (lowest point on the deck or in the sea), '
                  f'{r["fouled_time"]:.1f} s fouled{first}; lowest point more than {SAG:g} m below the guide way for '
                  f'{r["sag_time"]:.1f} s; least clearance above deck {r["min_deck"]:.2f} m, above sea '
                  f'{r["min_sea"]:.2f} m; reel safety trips {r["trips"]}')
