@@ -92,3 +92,22 @@ def test_mission_flies_the_builtin_uav_against_a_tether_pull(ros_domain):  # noq
         probe.close()
         stopped = stop_nodes(processes)
     assert_clean_exits(stopped)
+
+
+def test_a_uav_that_does_not_take_the_command_topic_stops_the_mission_with_one_line(ros_domain):  # noqa: F811
+    """The built-in UAV without command_rate serves only its services: the mission's first request is not answered
+    on /uav/state within 1 s of sim time, and the mission ends naming the mismatch instead of waiting for ever.
+    """
+    uav = _start('uav_bridge.builtin_uav_node', 'start:=[0.0, 0.0, 0.3]', 'tether_force:=topic', domain=ros_domain)
+    mission = _start('uav_bridge.mission_node', 'reel_rate:=100.0', domain=ros_domain)
+    probe = Probe()
+    publish_clock_wrench_and_reel(probe, WrenchStamped(), ReelState())
+    try:
+        _, err = mission.communicate(timeout=120)
+    finally:
+        probe.close()
+        stopped = stop_nodes([uav])
+    assert mission.returncode == 2 and 'Traceback' not in err, err
+    assert 'error: /uav/state has not answered the arm request of /uav/command 1 within 1 s: run the built-in UAV ' \
+           'with command_rate 10' in err
+    assert_clean_exits(stopped)
