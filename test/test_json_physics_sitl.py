@@ -4,9 +4,12 @@ SITL sends its motor outputs to :class:`uav_bridge.json_physics_server.JsonPhysi
 and waits for each reply, so the physics sets the pace (SITL's ``--speedup`` only caps it)
 and SITL's clock is the physics time. The MAVLink session of the bridge arms, takes off in
 GUIDED and holds station while the plant's quasi-static tether, anchored on a resting boat,
-pulls on the UAV. Skipped only where no SITL binary runs (see ``sitl_process.py``).
+pulls on the UAV. The physics and the session take turns in ticks of physics time
+(:func:`uav_bridge.json_flight.fly_and_hold`), so two flights at once, SITL capped at
+different speed-ups, must give the same frames to the bit. Skipped only where no SITL binary
+runs (see ``sitl_process.py``).
 
-Measured over the hold (60 s of sim time): frames (none lost, none stepped twice), the mean
+Measured over the hold (20 s of sim time; the scene's test holds 60 s): frames (none lost, none stepped twice), the mean
 rotor thrust against weight plus the tether's pull (the vector |m g e_z - f|), and the
 position-hold error about the take-off point.
 """
@@ -42,15 +45,15 @@ pytestmark = pytest.mark.skipif(UNAVAILABLE is not None, reason=UNAVAILABLE or '
 START = np.array([8.0, 0.0, 0.0])           # m, world: the UAV on the ground 8 m east of the boat
 ALTITUDE = 12.0                             # m above the take-off point
 TETHER_LENGTH = 16.0                        # m, guide way (0.5 m above the boat) to the UAV: it sags
-HOLD = 60.0                                 # s of sim time
+HOLD = 20.0                                 # s of sim time (the scene's test holds 60 s)
+SPEEDUPS = (100.0, 1.0)                     # SITL's caps on its pace: 1.0 holds one flight to real time
 FRAME_RATE = 800                            # physics frames per s (ArduCopter arms above 1.8 x its 400 Hz loop)
 JSON_PARAMETERS = (('FRAME_TYPE', 1), ('SIM_RATE_HZ', FRAME_RATE))          # quad X
 
 
-@pytest.fixture
-def hold(tmp_path):
-    """The flight, its hold recorded, the server closed afterwards."""
-    sitl = SitlProcess(tmp_path, speedup=50.0, model='JSON:127.0.0.1', parameters=JSON_PARAMETERS)
+def _fly(workdir, speedup: float) -> tuple:
+    """One flight on its own SITL instance; its hold record, physics and log lines."""
+    sitl = SitlProcess(workdir, speedup=speedup, model='JSON:127.0.0.1', parameters=JSON_PARAMETERS)
     plant = TetherPlant(PlantConfig(initial_length=TETHER_LENGTH, dt=0.01, uav=UavConfig(mode='prescribed')))
     tether = PlantTether(plant, resting_platform(), period=0.01)
     physics = JsonPhysics(JsonPhysicsConfig(start=tuple(START), frame_rate=FRAME_RATE))
@@ -61,16 +64,38 @@ def hold(tmp_path):
                            stream_rates={'ATTITUDE': 10.0, 'LOCAL_POSITION_NED': 10.0, 'HIGHRES_IMU': 10.0,
                                          'EKF_STATUS_REPORT': 2.0})
     try:
-        yield fly_and_hold(server, sitl, config, HoldPlan(altitude=ALTITUDE, hold=HOLD),
-                           log=logs.append), physics, logs
+        return fly_and_hold(server, sitl, config, HoldPlan(altitude=ALTITUDE, hold=HOLD), log=logs.append), \
+            physics, logs
     finally:
         sitl.close()
         server.close()
-        print((tmp_path / 'sitl.log').read_text(errors='replace')[-3000:])
+        print((workdir / 'sitl.log').read_text(errors='replace')[-2000:])
 
 
-def test_arducopter_takes_off_and_holds_station_on_the_tether(hold):
-    record, physics, logs = hold
+@pytest.fixture(scope='module')
+def flights(tmp_path_factory):
+    """The same flight twice at once, SITL capped at two different speed-ups, each on its own instance."""
+    results: dict = {}
+
+    def fly(speedup: float) -> None:
+        try:
+            results[speedup] = _fly(tmp_path_factory.mktemp(f'speedup{speedup:g}'), speedup)
+        except BaseException as error:     # noqa: BLE001 - raised in the test's thread below
+            results[speedup] = error
+
+    threads = [threading.Thread(target=fly, args=(speedup,)) for speedup in SPEEDUPS]
+    for thread in threads:
+        thread.start()
+    for thread in threads:
+        thread.join()
+    for result in results.values():
+        if isinstance(result, BaseException):
+            raise result
+    return [results[speedup] for speedup in SPEEDUPS]
+
+
+def test_arducopter_takes_off_and_holds_station_on_the_tether(flights):
+    record, physics, logs = flights[0]
     # frames: every count SITL sent stepped exactly once, none skipped, none twice
     counts = record.frame_counts
     assert record.counts.lost == 0 and record.counts.restarts == 0 and record.counts.rejected == 0
@@ -95,6 +120,17 @@ def test_arducopter_takes_off_and_holds_station_on_the_tether(hold):
     assert abs(balance) < 0.01                          # within 1 % of weight plus tether pull
     assert horizontal.max() < 1.0 and np.abs(error[:, 2]).max() < 1.0
     assert not any('restarted' in line for line in logs)
+
+
+def test_the_same_flight_at_two_speedups_at_once_is_the_same_to_the_bit(flights):
+    (first, _, _), (second, _, _) = flights
+    print(f'wall {first.wall_time:.0f} s and {second.wall_time:.0f} s for {first.sim_time:.2f} s of sim time; '
+          f'largest position difference {np.abs(first.position - second.position).max() if len(first.t) == len(second.t) else "n/a"}')
+    assert first.sim_time == second.sim_time and first.climb_time == second.climb_time
+    assert np.array_equal(first.frame_counts, second.frame_counts)
+    assert np.array_equal(first.t, second.t)
+    assert np.array_equal(first.position, second.position)       # the UAV's track, every frame of the hold
+    assert np.array_equal(first.thrust, second.thrust) and np.array_equal(first.force, second.force)
 
 
 def test_a_sitl_restart_puts_the_uav_back_and_time_runs_on(tmp_path):

@@ -19,6 +19,18 @@ PARAMETERS: tuple[ParamSpec, ...] = (
     ParamSpec('wrench_rate', 100.0, 'rate of the plant\'s /tether/uav_wrench (its state_rate); the force stamped '
               't acts from t + 1/wrench_rate (the loop\'s explicit delay); 0: no tether', 'Hz', low=0.0,
               high=1000.0, read_only=True),
+    ParamSpec('platform_rate', 100.0, 'straight_line: rate of /platform/reel_pose (the platform\'s state_rate)',
+              'Hz', low=1.0, high=1000.0, read_only=True),
+    ParamSpec('tether_model', 'plant', 'the tether force on the UAV: plant (the plant\'s /tether/uav_wrench) or '
+              'straight_line (ArduPilot\'s SIM_Tether model: a straight line from the reel mount on '
+              '/platform/reel_pose, the plant\'s deployed length from /tether/state; the plant still runs)',
+              choices=('plant', 'straight_line'), read_only=True),
+    ParamSpec('line_density', 0.042, 'straight_line: the line\'s mass per length (the thesis\'s tether)', 'kg/m',
+              low=0.0, high=10.0, read_only=True),
+    ParamSpec('line_spring', 100.0, 'straight_line: spring on the stretch beyond the deployed length (SIM_Tether\'s)',
+              'N/m', low=0.0, high=1e6, read_only=True),
+    ParamSpec('line_damping', 10.0, 'straight_line: damping of that stretch (SIM_Tether\'s)', 'N s/m', low=0.0,
+              high=1e5, read_only=True),
     ParamSpec('mass', 6.0, 'UAV mass', 'kg', low=0.05, high=100.0, read_only=True),
     ParamSpec('inertia', [0.17, 0.17, 0.34], 'principal moments of inertia about the centre of mass, body FLU',
               'kg m^2', read_only=True),

@@ -176,6 +176,16 @@ class JsonPhysicsServer:
         """Release the port."""
         self.sock.close()
 
+    def waiting(self, timeout: float) -> bool:
+        """Whether a servo packet is queued within ``timeout`` s (left unread): SITL sent its next frame and waits.
+
+        Once the reply to the last frame of a tick is out, SITL runs that frame's loop (reading
+        its MAVLink ports among the rest) and sends the next packet: MAVLink bytes written after
+        this returned True reach SITL's first loop after the next reply, whatever the pace.
+        """
+        readable, _, _ = select.select([self.sock], [], [], timeout)
+        return bool(readable)
+
     def poll(self, timeout: float) -> list[Reply]:
         """Wait up to ``timeout`` s for servo packets and answer them; every datagram's reply, in order
         (only the last one is sent).

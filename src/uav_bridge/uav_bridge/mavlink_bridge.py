@@ -21,13 +21,24 @@ Streams use the sensor-data QoS. Commands: services ``/uav/set_mode`` (tether_ms
 ``/uav/arm`` (std_srvs/SetBool: true arms, retrying with back-off while the autopilot
 refuses, false disarms), ``/uav/takeoff`` (tether_msgs/Takeoff), ``/uav/land``
 (std_srvs/Trigger); position setpoints on ``/uav/setpoint`` (geometry_msgs/PoseStamped in
-``world``; a zero quaternion keeps the heading) go out as SET_POSITION_TARGET_LOCAL_NED.
+``world``; a zero quaternion keeps the heading) go out as SET_POSITION_TARGET_LOCAL_NED
+(stepped: in the tick after their stamp).
 Services answer once the autopilot did (or refused, with its reasons), in their own threads.
+
+With ``lockstep_input`` (SITL on the JSON physics, :mod:`uav_bridge.json_physics_node`) the
+bridge ticks in the graph's lockstep after the physics' message of the same tick, when SITL
+waits for its next frame: each tick reads what SITL sent, runs the link's timers on sim time,
+sends the queued commands and setpoints, publishes (stamped with the tick) and only then acks,
+so SITL reads every byte at the same frame at any pace (:meth:`MavlinkSession.poll`).
 """
 
 from __future__ import annotations
 
+import itertools
 import sys
+import threading
+from collections.abc import Callable
+from concurrent.futures import Future
 
 from geometry_msgs.msg import PoseStamped
 from geometry_msgs.msg import TwistStamped
@@ -50,6 +61,11 @@ from tether_common.qos import COMMAND
 from tether_common.qos import LATCHED
 from tether_common.qos import SENSOR
 from tether_common.ros_parameters import declare_parameters
+from tether_common.lockstep import Input
+from tether_common.lockstep import Lockstep
+from tether_common.lockstep import Tick
+from tether_common.lockstep import period_ns
+from tether_common.lockstep import stamp_ns
 from uav_bridge import telemetry
 from uav_bridge.frames import quaternion_enu_to_yaw_ned
 from uav_bridge.mavlink_bridge_params import PARAMETERS
@@ -92,12 +108,16 @@ class MavlinkBridge(Node):
         self.imu_pub = self.create_publisher(Imu, f'{telemetry}/imu', SENSOR)
         self.global_pub = self.create_publisher(NavSatFix, f'{telemetry}/global', SENSOR)
         self.state_pub = self.create_publisher(UavState, '/uav/state', LATCHED)
+        stepped = bool(params['lockstep_input'])
+        self._tick_seconds = 0.0
+        clocks = {'clock': self._tick_time, 'stamp_clock': self._tick_time} if stepped else \
+            {'stamp_clock': self._graph_seconds}
         try:
-            self.session = MavlinkSession(config, self.on_sample, self.on_status, self.on_log,
-                                          stamp_clock=self._graph_seconds)
+            self.session = MavlinkSession(config, self.on_sample, self.on_status, self.on_log, **clocks)
         except ValueError as error:
             raise ConfigurationError(str(error)) from None
-        self.command_timeout = max(config.command_timeout, config.arm_timeout) + 5.0
+        # stepped, the session ends every command by its deadline in sim time, however slow the graph
+        self.command_timeout = None if stepped else max(config.command_timeout, config.arm_timeout) + 5.0
         group = ReentrantCallbackGroup()
         self.create_service(SetMode, '/uav/set_mode', self.set_mode_callback, callback_group=group)
         self.create_service(SetBool, '/uav/arm', self.arm_callback, callback_group=group)
@@ -105,7 +125,16 @@ class MavlinkBridge(Node):
         self.create_service(Trigger, '/uav/land', self.land_callback, callback_group=group)
         self.create_subscription(PoseStamped, '/uav/setpoint', self.setpoint_callback, COMMAND)
         self._warned_frames: set[str] = set()
-        self.session.start()
+        self.lockstep: Lockstep | None = None
+        self._due: list[tuple[int, int, Callable[[], Future | None], Future]] = []
+        self._due_lock = threading.Lock()
+        self._arrivals = itertools.count()
+        if stepped:
+            self.lockstep = Lockstep(self)
+            period = 1.0 / params['lockstep_rate']
+            self._period_ns = period_ns(period)
+            self.lockstep.every(period, self.step, [Input(params['lockstep_input'], PoseStamped, period, 0.0)])
+        self.session.start(stepped=stepped)
         self.get_logger().info(f'MAVLink bridge on {config.url}; autopilot origin at {list(config.origin)} m in world')
 
     def destroy_node(self) -> None:
@@ -115,6 +144,42 @@ class MavlinkBridge(Node):
 
     def _graph_seconds(self) -> float:
         return self.get_clock().now().nanoseconds * 1e-9
+
+    def _tick_time(self) -> float:
+        return self._tick_seconds
+
+    def step(self, tick: Tick) -> None:
+        """Lockstep tick: the link's work at the tick's sim time (SITL waits for its next frame meanwhile).
+
+        The commands and setpoints due by the tick go to the session first (in due, then arrival,
+        order), so they are sent in this tick's :meth:`MavlinkSession.poll`.
+        """
+        self._tick_seconds = tick.seconds
+        with self._due_lock:
+            due = sorted(item for item in self._due if item[0] <= tick.time_ns)
+            self._due = [item for item in self._due if item[0] > tick.time_ns]
+        for _, _, action, outer in due:
+            inner = action()
+            if inner is None:
+                outer.set_result(None)
+            else:
+                inner.add_done_callback(lambda done, outer=outer: outer.set_result(done.result()))
+        self.session.poll(tick.seconds)
+
+    def _at_tick(self, due_ns: int, action: Callable[[], Future | None]) -> Future:
+        """Run ``action`` in the first tick at or after ``due_ns``; its future's result, forwarded."""
+        outer: Future = Future()
+        with self._due_lock:
+            self._due.append((due_ns, next(self._arrivals), action, outer))
+        return outer
+
+    def _command(self, action: Callable[[], Future]) -> Future:
+        """A session command: at once, or stepped in the tick after the one the request arrived in
+        (the mission's request of tick t goes out at t + one tick, as its setpoints do).
+        """
+        if self.lockstep is None:
+            return action()
+        return self._at_tick(self.lockstep.clock_ns + self._period_ns, action)
 
     # link thread → ROS
 
@@ -194,23 +259,28 @@ class MavlinkBridge(Node):
         quaternion = [q.x, q.y, q.z, q.w]
         yaw = quaternion_enu_to_yaw_ned(quaternion) if any(quaternion) else None
         p = msg.pose.position
-        self.session.send_setpoint([p.x, p.y, p.z], yaw)
+        position = [p.x, p.y, p.z]
+        if self.lockstep is None:
+            self.session.send_setpoint(position, yaw)
+        else:
+            self._at_tick(stamp_ns(msg.header.stamp) + self._period_ns,
+                          lambda: self.session.send_setpoint(position, yaw))
 
     def set_mode_callback(self, request, response):
         """Ask for a flight mode; answer when the HEARTBEAT shows it or the autopilot refused."""
-        return self._answer(self.session.set_mode(request.mode), response)
+        return self._answer(self._command(lambda: self.session.set_mode(request.mode)), response)
 
     def arm_callback(self, request, response):
         """Arm (retrying while refused) or disarm."""
-        return self._answer(self.session.arm(request.data), response)
+        return self._answer(self._command(lambda: self.session.arm(request.data)), response)
 
     def takeoff_callback(self, request, response):
         """Take off to the requested altitude above the take-off point."""
-        return self._answer(self.session.takeoff(request.altitude), response)
+        return self._answer(self._command(lambda: self.session.takeoff(request.altitude)), response)
 
     def land_callback(self, request, response):
         """Land where the UAV is."""
-        return self._answer(self.session.land(), response)
+        return self._answer(self._command(self.session.land), response)
 
     def _answer(self, future, response):
         result = future.result(timeout=self.command_timeout)

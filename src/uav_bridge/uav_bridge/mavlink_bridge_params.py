@@ -1,8 +1,9 @@
 """Parameters of the mavlink_bridge node (no rclpy import; the bringup validates scenes with them).
 
 Link times are wall-clock seconds: the link to an autopilot runs in real time whatever the
-graph's clock does. Stream rates are in the autopilot's own time (a SITL at ``--speedup`` N
-sends N times as many messages per wall second).
+graph's clock does; with ``lockstep_input`` set (SITL on the JSON physics) they are seconds of
+sim time. Stream rates are in the autopilot's own time (a SITL at ``--speedup`` N sends N times
+as many messages per wall second).
 """
 
 from __future__ import annotations
@@ -42,5 +43,11 @@ PARAMETERS: tuple[ParamSpec, ...] = (
               's', low=0.5, high=600.0, read_only=True),
     ParamSpec('arm_timeout', 120.0, 'arming is retried with back-off while refused, up to this long (wall clock)',
               's', low=1.0, high=3600.0, read_only=True),
+    ParamSpec('lockstep_input', '', 'empty: the link runs in its own thread in wall time; a topic (the JSON '
+              'physics\' /uav/pose): the bridge ticks in the graph\'s lockstep after that topic\'s message of the '
+              'same tick, reads and writes the link only then and runs its timers on sim time (deterministic '
+              'commands to a SITL on the JSON physics)', read_only=True),
+    ParamSpec('lockstep_rate', 100.0, 'tick rate with lockstep_input: the rate of that topic\'s producer', 'Hz',
+              low=1.0, high=1000.0, read_only=True),
     ParamSpec('statustext_lines', 10, 'latest STATUSTEXT lines kept in /uav/state', low=1, high=100, read_only=True),
 )

@@ -19,7 +19,9 @@ its tether on the sea.
 * station keeping (Sec. 6.3): peak-to-peak and standard deviation of the UAV altitude
   (``/uav/pose`` z) and the largest horizontal distance from its mean position;
 * decoupling (Fig. 6.10b): normalised cross-correlation of the UAV altitude with the
-  platform heave (``/platform/state``), both on the platform's stamps, means removed,
+  platform heave (``/platform/state``), both on the platform's stamps, means removed, beside
+  both standard deviations and the altitude's part that follows the heave (the largest
+  correlation times the altitude's std: a high correlation of mm-scale errors is still mm),
   ``c(k) = Σ x_i y_(i+k) / (N σ_x σ_y)`` at every lag k; the largest ``|c|``;
 * tether shape (Sec. 6.3, Fig. 6.9): at each ``/tether/nodes`` message, 11 points evenly
   spaced in unstretched arc length strictly between the reel and the UAV (the thesis's
@@ -94,6 +96,21 @@ class Run:
     reel: dict                 # t, length, mode
     trips: int
     guide_height: float
+    force: dict                # t, x, y, z: the tether's force on the UAV, world
+    tether_model: str          # the JSON physics' tether_model, or the plant's
+
+
+def _node_parameter(path: Path, node: str, name: str):
+    """A parameter of ``node`` from the run's ``params/<node>.yaml`` beside the bag; None without one."""
+    start = path.resolve()
+    for directory in (start, *start.parents[:2]):
+        file = directory / 'params' / f'{node}.yaml'
+        if file.is_file():
+            try:
+                return yaml.safe_load(file.read_text())['/**']['ros__parameters'].get(name)
+            except (yaml.YAMLError, KeyError, TypeError, AttributeError):
+                return None
+    return None
 
 
 def _t(msg) -> float:
@@ -107,16 +124,11 @@ def _series(bag: Bag, topic: str, fields: dict) -> dict:
 
 
 def _guide_height(path: Path) -> float:
-    start = path.resolve()
-    for directory in (start, *start.parents[:2]):
-        file = directory / 'params' / 'reel.yaml'
-        if file.is_file():
-            try:
-                return float(yaml.safe_load(file.read_text())['/**']['ros__parameters'].get('guide_height',
-                                                                                           GUIDE_HEIGHT))
-            except (yaml.YAMLError, KeyError, TypeError, ValueError):
-                return GUIDE_HEIGHT
-    return GUIDE_HEIGHT
+    value = _node_parameter(path, 'reel', 'guide_height')
+    try:
+        return GUIDE_HEIGHT if value is None else float(value)
+    except (TypeError, ValueError):
+        return GUIDE_HEIGHT
 
 
 def load_run(path: str | Path) -> Run:
@@ -146,12 +158,17 @@ def load_run(path: str | Path) -> Run:
         estimate = _series(bag, '/estimate/relative', {'dz': lambda m: m.dz, 'initialized': lambda m: m.initialized})
         reel = _series(bag, '/reel/state', {'length': lambda m: m.deployed_length, 'mode': lambda m: m.mode})
         trips = _series(bag, '/reel/diagnostics', {'count': lambda m: m.trip_count})
+        force_topic = '/uav/tether_force' if '/uav/tether_force' in bag.topics else '/tether/uav_wrench'
+        force = _series(bag, force_topic, {'x': lambda m: m.wrench.force.x, 'y': lambda m: m.wrench.force.y,
+                                           'z': lambda m: m.wrench.force.z})
     except BagError as error:
         raise UsageError(f'{path}: cannot read the bag: {error}') from None
     directory = path.resolve() if path.is_dir() else path.resolve().parent
     name = directory.parent.name if directory.name == 'bag' else directory.name
+    model = _node_parameter(path, 'json_physics', 'tether_model') or ('plant' if len(force['t']) else 'none')
     return Run(path, name, poses, phases, np.column_stack([heave['t'], heave['heave']]), nodes, tether, truth,
-               estimate, reel, int(trips['count'].max()) if len(trips['t']) else 0, _guide_height(path))
+               estimate, reel, int(trips['count'].max()) if len(trips['t']) else 0, _guide_height(path), force,
+               str(model))
 
 
 def cross_correlation(x: np.ndarray, y: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -216,6 +233,10 @@ def analyse(run: Run) -> dict:
     station = run.phases[-1][3]
     result['station'] = station
     result['keeping'] = station_keeping(run.poses[inside, 1:], station)
+    result['hold_error'] = np.linalg.norm(run.poses[inside, 1:3] - np.asarray(station)[:2], axis=1)
+    force_in = _window(run.force['t'], interval)
+    if force_in.sum() >= 2:
+        result['force'] = np.column_stack([run.force[c][force_in] for c in 'xyz'])
     heave_in = _window(run.heave[:, 0], interval)
     th, heave = run.heave[heave_in, 0], run.heave[heave_in, 1]
     if len(th) > 10:
@@ -224,6 +245,7 @@ def analyse(run: Run) -> dict:
         result['xcorr'] = (lags * float(np.median(np.diff(th))), corr)
         k = int(np.argmax(np.abs(corr)))
         result['xcorr_max'] = (float(abs(corr[k])), float(lags[k] * np.median(np.diff(th))))
+        result['xcorr_std'] = (float(np.std(altitude)), float(np.std(heave)))
     snapshots = [(t, p, a) for t, p, a in run.nodes if interval[0] <= t < interval[1] and len(p) >= 2]
     if snapshots:
         errors = np.array([shape_errors(p, a)[0] for _, p, a in snapshots])
@@ -275,6 +297,12 @@ def summary_lines(r: dict) -> list[str]:
             verdict = 'under' if value < THESIS['xcorr'] else 'not under'
             lines.append(f'  |normalised cross-correlation| of UAV altitude and platform heave: largest {value:.3f} '
                          f'at lag {lag:+.2f} s, {verdict} the thesis\'s {THESIS["xcorr"]} at all lags')
+            altitude_std, heave_std = r['xcorr_std']
+            coupled = value * altitude_std
+            lines.append(f'    normalised by the amplitudes: UAV altitude std {altitude_std:.4f} m, heave std '
+                         f'{heave_std:.4f} m; the part of the altitude that follows the heave at that lag is '
+                         f'{coupled:.4f} m rms, {100 * coupled / heave_std:.2f} % of the heave' if heave_std > 0 else
+                         f'    the platform did not heave (std {heave_std:.4f} m): the correlation says nothing')
         if 'shape_mean' in r:
             lines.append(f'  tether shape vs catenary reference: mean node error {r["shape_mean"]:.3f} m, std '
                          f'{r["shape_std"]:.3f} m over {SHAPE_POINTS} nodes x {len(r["shape"][0])} snapshots '
@@ -401,14 +429,39 @@ def plot(r: dict, out: Path) -> list[str]:
     return names
 
 
+def comparison_lines(results: list[dict]) -> list[str]:
+    """The runs side by side over their hold windows: tether model, position-hold error, force on the UAV
+    (issue: the plant's tether against a straight line like ArduPilot's SIM_Tether on the same mission).
+    """
+    held = [r for r in results if 'hold_error' in r]
+    if len(held) < 2:
+        return []
+    lines = ['side by side (hold windows): tether model | horizontal error from the station rms / max (m) | '
+             'altitude peak-to-peak (m) | tether force on the UAV down / sideways mean, |F| peak-to-peak (N)']
+    for r in held:
+        error = r['hold_error']
+        text = (f'  {r["run"].name}: {r["run"].tether_model} | {np.sqrt(np.mean(error ** 2)):.3f} / '
+                f'{error.max():.3f} | {r["keeping"]["peak_to_peak"]:.3f} | ')
+        if 'force' in r:
+            f = r['force']
+            text += (f'{-f[:, 2].mean():.2f} / {np.linalg.norm(f[:, :2], axis=1).mean():.2f}, '
+                     f'{np.ptp(np.linalg.norm(f, axis=1)):.2f}')
+        else:
+            text += 'no tether force recorded'
+        lines.append(text)
+    return lines
+
+
 def report(paths: list[str], out: Path) -> str:
-    """Analyse and plot each run; return the summary text."""
+    """Analyse and plot each run; with several, a side-by-side table; return the summary text."""
     lines = []
+    results = []
     for path in paths:
         r = analyse(load_run(path))
+        results.append(r)
         lines += summary_lines(r)
         lines.append('  plots: ' + ', '.join(plot(r, out)))
-    return '\n'.join(lines)
+    return '\n'.join(lines + comparison_lines(results))
 
 
 def mission_report(bag_path: str, out_dir: str) -> list[str]:

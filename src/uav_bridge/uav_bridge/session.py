@@ -22,6 +22,15 @@ by I/O. It
 Bytes that are not MAVLink, unknown messages and failing callbacks are counted and logged,
 never fatal. Link times are wall time (``clock``, monotonic s); sample stamps come from
 ``stamp_clock`` (the graph's clock in a node).
+
+**Stepped mode** (``start(stepped=True)``): for an autopilot in the graph's lockstep (SITL
+on the JSON physics, which answers its frames only inside the graph's ticks). The thread
+then only opens the link (connection attempts back off in wall time: SITL's clock stands
+still until a client is connected, so when the link opens does not change the flight); the
+caller does everything else in :meth:`poll` with its sim time: read what the autopilot sent,
+run every timer (HEARTBEAT, stream requests, command resends, arming retries, staleness) on
+that time and send. Called while SITL waits for its next physics frame, every byte sent
+reaches SITL at the same frame whatever the wall-clock pace: the same flight at any speed.
 """
 
 from __future__ import annotations
@@ -133,8 +142,9 @@ class LinkStatus:
 class _Command:
     kind: str
     future: Future
-    deadline: float
+    timeout: float
     argument: float | str | None = None
+    deadline: float = 0.0
     next_send: float = 0.0
     attempts: int = 0
     backoff: float = 0.0
@@ -193,10 +203,22 @@ class MavlinkSession:
 
     # thread control
 
-    def start(self) -> None:
-        """Run the link in a daemon thread."""
-        self._thread = threading.Thread(target=self._run, name='mavlink', daemon=True)
+    def start(self, stepped: bool = False) -> None:
+        """Run the link in a daemon thread; ``stepped``: the thread only connects, :meth:`poll` does the rest."""
+        self._thread = threading.Thread(target=self._connect_loop if stepped else self._run, name='mavlink',
+                                        daemon=True)
         self._thread.start()
+
+    def poll(self, now: float) -> None:
+        """Stepped mode: handle everything received so far, then run the timers at ``now`` and send."""
+        while self._transport is not None and self._transport.wait_readable(0.0):
+            try:
+                data = self._transport.recv()
+            except LinkClosed as error:
+                self._close(str(error))
+                break
+            self._receive(data, now)
+        self._advance(now)
 
     def stop(self) -> None:
         """Stop the thread, fail pending commands, close the link."""
@@ -237,7 +259,7 @@ class MavlinkSession:
 
     def _submit(self, kind: str, argument, timeout: float) -> Future:
         future: Future = Future()
-        self._commands.put(_Command(kind, future, self.clock() + timeout, argument))
+        self._commands.put(_Command(kind, future, timeout, argument))
         return future
 
     # the loop
@@ -254,14 +276,27 @@ class MavlinkSession:
                 except Exception:  # noqa: BLE001 - nor a logger that fails
                     continue
 
-    def _step(self) -> None:
-        now = self.clock()
-        if self._transport is None:
-            if now >= self._next_connect:
-                self._connect(now)
+    def _connect_loop(self) -> None:
+        while not self._stop.is_set():
             if self._transport is None:
-                self._advance(now)
-                self._stop.wait(min(0.05, max(0.0, self._next_connect - now)))
+                self._try_connect()
+            self._stop.wait(0.02 if self._transport is None else 0.1)
+
+    def _try_connect(self) -> None:
+        """Open the link unless the back-off (wall time: the OS and the process, not the autopilot) waits."""
+        wall = time.monotonic()
+        if wall >= self._next_connect:
+            self._connect(self.clock())
+            if self._transport is None:
+                self._next_connect = wall + self._connect_backoff
+                self._connect_backoff = min(2.0 * self._connect_backoff, self.config.reconnect_max)
+
+    def _step(self) -> None:
+        if self._transport is None:
+            self._try_connect()
+            if self._transport is None:
+                self._advance(self.clock())
+                self._stop.wait(min(0.05, max(0.0, self._next_connect - time.monotonic())))
                 return
         if self._transport.wait_readable(0.01):
             try:
@@ -269,26 +304,25 @@ class MavlinkSession:
             except LinkClosed as error:
                 self._close(str(error))
                 return
-            self._receive(data)
+            self._receive(data, self.clock())
         self._advance(self.clock())
 
     def _connect(self, now: float) -> None:
         try:
-            self._transport = Transport.open(self.endpoint)
+            transport = Transport.open(self.endpoint)
         except OSError as error:
             reason = error.strerror or str(error)
             if reason != self._last_error:
                 self.log('info', f'waiting for the autopilot on {self.endpoint}: {reason}; '
                                  f'retrying with back-off up to {self.config.reconnect_max:g} s')
             self._last_error = reason
-            self._next_connect = now + self._connect_backoff
-            self._connect_backoff = min(2.0 * self._connect_backoff, self.config.reconnect_max)
             return
         self._last_error = ''
         self._parser = self._new_parser()
         self.state.connection_made()
         self._connected_at = now
         self._next_heartbeat = now
+        self._transport = transport         # last: in stepped mode, poll() uses the link from here on
         self.log('info', f'link open on {self.endpoint}, waiting for a HEARTBEAT')
 
     def _close(self, reason: str, reconnect: bool = True) -> None:
@@ -297,7 +331,7 @@ class MavlinkSession:
         self._transport.close()
         self._transport = None
         self.state.connection_lost()
-        self._next_connect = self.clock() + self._connect_backoff
+        self._next_connect = time.monotonic() + self._connect_backoff
         if reconnect:
             self.log('warn', f'link lost: {reason}; reconnecting with back-off up to {self.config.reconnect_max:g} s')
 
@@ -316,7 +350,7 @@ class MavlinkSession:
 
     # receiving
 
-    def _receive(self, data: bytes) -> None:
+    def _receive(self, data: bytes, now: float) -> None:
         try:
             messages = self._parser.parse_buffer(data) or []
         except Exception:  # noqa: BLE001 - pymavlink raises on some malformed frames
@@ -327,7 +361,7 @@ class MavlinkSession:
             if msg.get_type() == 'BAD_DATA':
                 self.state.on_bad_data()
                 continue
-            self._handle(msg, self.clock())
+            self._handle(msg, now)
 
     def _handle(self, msg, now: float) -> None:
         events = self.state.on_message(msg, now)
@@ -411,7 +445,7 @@ class MavlinkSession:
             self._close(f'no HEARTBEAT for {2 * self.config.link_timeout:g} s')
         if self._transport is not None and not stale:
             self._request_streams(now)
-        self._take_commands()
+        self._take_commands(now)
         if self._active is not None:
             self._advance_command(now)
         self._publish_status(now)
@@ -441,21 +475,21 @@ class MavlinkSession:
                 and (self.state.last_seen.get(name) is None
                      or now - self.state.last_seen[name] > self.config.stream_timeout)]
 
-    def _take_commands(self) -> None:
+    def _take_commands(self, now: float) -> None:
         while True:
             try:
                 item = self._commands.get_nowait()
             except queue.Empty:
                 break
             if isinstance(item, telemetry.PositionTarget):
-                self._send_target(item)
+                self._send_target(item, now)
             else:
                 self._pending.append(item)
         if self._active is None and self._pending:
-            self._start(self._pending.pop(0))
+            self._start(self._pending.pop(0), now)
 
-    def _send_target(self, target: telemetry.PositionTarget) -> None:
-        if self.state.stale(self.clock()) or self.state.system_id is None:
+    def _send_target(self, target: telemetry.PositionTarget, now: float) -> None:
+        if self.state.stale(now) or self.state.system_id is None:
             return
         self._send(self._encoder.set_position_target_local_ned_encode(
             int(self.state.boot_time * 1000) if self.state.boot_time else 0,
@@ -463,7 +497,8 @@ class MavlinkSession:
             target.x, target.y, target.z, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, target.yaw, 0.0))
         self.setpoints_sent += 1
 
-    def _start(self, command: _Command) -> None:
+    def _start(self, command: _Command, now: float) -> None:
+        command.deadline = now + command.timeout
         command.status_serial = self.state.status_serial
         command.backoff = self.config.arm_retry_min
         self._active = command

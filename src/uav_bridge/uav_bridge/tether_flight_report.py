@@ -1,6 +1,7 @@
 """After-run report of a tethered flight: the tether's force on the UAV and the autopilot's estimate, from a bag.
 
-Reads ``/tether/uav_wrench`` (the plant's force on the UAV, world), ``/uav/pose`` (the true
+Reads ``/uav/tether_force`` (the force the JSON physics applied to the UAV, world; else the
+plant's ``/tether/uav_wrench``), ``/uav/pose`` (the true
 UAV), ``/autopilot/pose`` (the autopilot's estimate, when the bridge publishes there) and
 ``/mission/state``. Over the flight report's station-keeping window
 (:func:`uav_bridge.report.hold_interval`) it gives the force's mean downward and
@@ -41,9 +42,10 @@ def tether_flight_report(bag_path: str, out_dir: str) -> list[str]:
         ValueError: the bag cannot be read.
     """
     bag = read_bag(Path(bag_path))
-    force = _series(bag, '/tether/uav_wrench', lambda m: (m.wrench.force.x, m.wrench.force.y, m.wrench.force.z))
+    topic = '/uav/tether_force' if '/uav/tether_force' in bag.topics else '/tether/uav_wrench'
+    force = _series(bag, topic, lambda m: (m.wrench.force.x, m.wrench.force.y, m.wrench.force.z))
     if force.shape[0] == 0:
-        return ['tether on the UAV: no /tether/uav_wrench in the bag']
+        return ['tether on the UAV: no /uav/tether_force or /tether/uav_wrench in the bag']
     flight = read_flight(Path(bag_path))
     truth = flight['poses']
     estimate = _series(bag, '/autopilot/pose', lambda m: (m.pose.position.x, m.pose.position.y, m.pose.position.z))
