@@ -19,7 +19,9 @@ over its frames (the explicit delay of the UAV <-> plant loop); none is zero for
 (:class:`uav_bridge.json_physics_server.StraightTether`, the bench's too): a straight line from
 the reel mount (``/platform/reel_pose`` of the tick) with the plant's deployed length
 (``/tether/state`` one plant step old), for the comparison of the two on the same mission.
-The force applied is published on ``/uav/tether_force`` (geometry_msgs/WrenchStamped, world).
+The force applied is published on ``/uav/tether_force`` (geometry_msgs/WrenchStamped, world),
+the rotors' total thrust on ``/uav/rotor_thrust`` (geometry_msgs/WrenchStamped, ``uav``, FLU:
+along +z), both at the tick's last frame.
 Publishes, like the built-in UAV and the bridge: ``/uav/pose``, ``/uav/twist`` (``world``) and
 ``/uav/imu`` (``uav``, FLU: the specific force SITL's IMU reads). ArduPilot's state, the
 commands and the setpoints go over MAVLink (``mavlink_bridge``, ``mission``).
@@ -107,6 +109,7 @@ class JsonPhysicsNode(Node):
         self.twist_pub = self.create_publisher(TwistStamped, '/uav/twist', SENSOR)
         self.imu_pub = self.create_publisher(Imu, '/uav/imu', SENSOR)
         self.force_pub = self.create_publisher(WrenchStamped, '/uav/tether_force', STATE)
+        self.thrust_pub = self.create_publisher(WrenchStamped, '/uav/rotor_thrust', STATE)
         inputs = []
         if p['wrench_rate'] > 0.0:
             period = 1.0 / p['wrench_rate']
@@ -165,6 +168,10 @@ class JsonPhysicsNode(Node):
         force.header.stamp, force.header.frame_id = tick.stamp, 'world'
         fill_vector(force.wrench.force, self.force.force())
         self.force_pub.publish(force)
+        thrust = WrenchStamped()
+        thrust.header.stamp, thrust.header.frame_id = tick.stamp, 'uav'
+        thrust.wrench.force.z = float(frame.thrusts.sum())
+        self.thrust_pub.publish(thrust)
 
     def destroy_node(self) -> None:
         """Say what the frames were and release the UDP port with the node."""

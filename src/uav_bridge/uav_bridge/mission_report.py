@@ -100,7 +100,7 @@ class Run:
     tether_model: str          # the JSON physics' tether_model, or the plant's
 
 
-def _node_parameter(path: Path, node: str, name: str):
+def node_parameter(path: Path, node: str, name: str):
     """A parameter of ``node`` from the run's ``params/<node>.yaml`` beside the bag; None without one."""
     start = path.resolve()
     for directory in (start, *start.parents[:2]):
@@ -124,7 +124,7 @@ def _series(bag: Bag, topic: str, fields: dict) -> dict:
 
 
 def _guide_height(path: Path) -> float:
-    value = _node_parameter(path, 'reel', 'guide_height')
+    value = node_parameter(path, 'reel', 'guide_height')
     try:
         return GUIDE_HEIGHT if value is None else float(value)
     except (TypeError, ValueError):
@@ -165,7 +165,7 @@ def load_run(path: str | Path) -> Run:
         raise UsageError(f'{path}: cannot read the bag: {error}') from None
     directory = path.resolve() if path.is_dir() else path.resolve().parent
     name = directory.parent.name if directory.name == 'bag' else directory.name
-    model = _node_parameter(path, 'json_physics', 'tether_model') or ('plant' if len(force['t']) else 'none')
+    model = node_parameter(path, 'json_physics', 'tether_model') or ('plant' if len(force['t']) else 'none')
     return Run(path, name, poses, phases, np.column_stack([heave['t'], heave['heave']]), nodes, tether, truth,
                estimate, reel, int(trips['count'].max()) if len(trips['t']) else 0, _guide_height(path), force,
                str(model))

@@ -6,7 +6,9 @@ UAV), ``/autopilot/pose`` (the autopilot's estimate, when the bridge publishes t
 ``/mission/state``. Over the flight report's station-keeping window
 (:func:`uav_bridge.report.hold_interval`) it gives the force's mean downward and
 sideways pull and its peak-to-peak magnitude, the hover load the rotors must carry on top of
-the weight, and how far the autopilot's estimate lies from the true position. Plots
+the weight, and how far the autopilot's estimate lies from the true position. With the JSON
+physics' ``/uav/rotor_thrust``, the hover balance: the mean rotor thrust against the mean
+|m g e_z − f| (weight plus the tether's pull; m the json_physics ``mass``). Plots
 ``uav_tether_force.png``.
 """
 
@@ -21,6 +23,9 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
 from tether_bringup.bag_reader import read_bag  # noqa: E402
+from tether_common.constants import GRAVITY  # noqa: E402
+from uav_bridge.json_physics_params import PARAMETERS as PHYSICS_PARAMETERS  # noqa: E402
+from uav_bridge.mission_report import node_parameter  # noqa: E402
 from uav_bridge.report import hold_interval  # noqa: E402
 from uav_bridge.report import read_flight  # noqa: E402
 
@@ -62,6 +67,10 @@ def tether_flight_report(bag_path: str, out_dir: str) -> list[str]:
         lines.append(f'tether on the UAV ({"hold" if interval else "whole run"}, {inside.sum()} samples): '
                      f'{-f[:, 2].mean():.2f} N down, {np.linalg.norm(f[:, :2], axis=1).mean():.2f} N sideways '
                      f'(mean), |F| {magnitude.mean():.2f} N mean, {np.ptp(magnitude):.2f} N peak-to-peak')
+        thrust = _series(bag, '/uav/rotor_thrust', lambda m: (0.0, 0.0, m.wrench.force.z))
+        if thrust.shape[0] >= 2:
+            held = thrust[(thrust[:, 0] >= force[inside, 0][0]) & (thrust[:, 0] <= force[inside, 0][-1]), 3]
+            lines.append(hover_balance_line(held, f, _mass(Path(bag_path))))
     if estimate.shape[0] >= 2 and truth.shape[0] >= 2:
         chosen = estimate[(estimate[:, 0] >= interval[0]) & (estimate[:, 0] < interval[1])] if interval else estimate
         if chosen.shape[0] >= 2:
@@ -74,6 +83,25 @@ def tether_flight_report(bag_path: str, out_dir: str) -> list[str]:
     _plot(force, interval, out / 'uav_tether_force.png')
     lines.append('tether on the UAV: plot uav_tether_force.png')
     return lines
+
+
+def _mass(path: Path) -> float:
+    value = node_parameter(path, 'json_physics', 'mass')
+    return float(value) if value is not None else float(next(p.default for p in PHYSICS_PARAMETERS
+                                                              if p.name == 'mass'))
+
+
+def hover_balance(thrust: np.ndarray, force: np.ndarray, mass: float) -> tuple[float, float, float]:
+    """Mean rotor thrust (N), mean |m g e_z − f| (N) and their relative difference over a hold."""
+    load = np.linalg.norm(np.array([0.0, 0.0, mass * GRAVITY]) - force, axis=1)
+    return float(thrust.mean()), float(load.mean()), float((thrust.mean() - load.mean()) / load.mean())
+
+
+def hover_balance_line(thrust: np.ndarray, force: np.ndarray, mass: float) -> str:
+    """The hover balance as a report line."""
+    mean_thrust, load, balance = hover_balance(thrust, force, mass)
+    return (f'hover: rotor thrust {mean_thrust:.2f} N against weight {mass * GRAVITY:.2f} N plus the tether\'s pull: '
+            f'|m g e_z - f| {load:.2f} N ({100 * balance:+.2f} %)')
 
 
 def _plot(force: np.ndarray, interval, path: Path) -> None:
