@@ -42,6 +42,7 @@ from __future__ import annotations
 import argparse
 import math
 from dataclasses import dataclass
+from dataclasses import field
 from pathlib import Path
 
 import matplotlib
@@ -96,8 +97,8 @@ class Run:
     reel: dict                 # t, length, mode
     trips: int
     guide_height: float
-    force: dict                # t, x, y, z: the tether's force on the UAV, world
-    tether_model: str          # the JSON physics' tether_model, or the plant's
+    force: dict = field(default_factory=lambda: {c: np.zeros(0) for c in 'txyz'})   # tether on the UAV, N, world
+    tether_model: str = 'none'  # the JSON physics' tether_model, or the plant's
 
 
 def node_parameter(path: Path, node: str, name: str):
