@@ -19,9 +19,10 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.spatial.transform import Rotation
 
 from tether_dynamics.plant import bodies
+from tether_dynamics.plant.ends import cross
+from tether_dynamics.plant.ends import quaternion_rotation
 from uav_bridge.multirotor_control import StationController
 from uav_bridge.multirotor_control import UavBodyState
 
@@ -153,7 +154,7 @@ class BuiltinUav:
         if self.armed:
             state = self._body_state()
             ramp = [0.0, 0.0, -self.config.land_speed] if self.mode == 'LAND' else None
-            moment = np.cross(self.rho, Rotation.from_quat(state.quaternion).inv().apply(force))
+            moment = cross(self.rho, quaternion_rotation(state.quaternion, 'the UAV attitude').matrix.T @ force)
             self.thrust, self.torque = self.controller.step(t, state, self.reference, self.yaw, force, ramp, moment)
         b = self.body
         return BuiltinUavState(self.armed, self.mode, b[0:3].copy(), b[3:6].copy(), b[13:16].copy(), b[6:10].copy(),

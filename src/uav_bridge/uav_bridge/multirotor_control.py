@@ -26,7 +26,9 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.spatial.transform import Rotation
+
+from tether_dynamics.plant.ends import cross
+from tether_dynamics.plant.ends import quaternion_rotation
 
 E3 = np.array([0.0, 0.0, 1.0])
 
@@ -86,12 +88,12 @@ class StationController:
         if tether_force is not None:
             force = force - np.asarray(tether_force, dtype=float)
         force = self._limit_tilt(force)
-        rotation = Rotation.from_quat(state.quaternion).as_matrix()
+        rotation = quaternion_rotation(state.quaternion, 'the UAV attitude').matrix
         thrust = float(np.clip(force @ rotation[:, 2], 0.0, g.max_thrust))
         desired = self._desired_attitude(force, yaw)
         error_r = 0.5 * _vee(desired.T @ rotation - rotation.T @ desired)    # Lee et al. Eq. (10)
         omega = np.asarray(state.angular_velocity, dtype=float)
-        torque = -g.k_r * error_r - g.k_w * omega + np.cross(omega, self.inertia @ omega)   # Eq. (16)
+        torque = -g.k_r * error_r - g.k_w * omega + cross(omega, self.inertia @ omega)   # Eq. (16)
         if tether_moment is not None:
             torque = torque - np.asarray(tether_moment, dtype=float)
         return thrust, torque
@@ -109,9 +111,9 @@ class StationController:
     def _desired_attitude(force: np.ndarray, yaw: float) -> np.ndarray:
         b3 = force / np.linalg.norm(force)
         heading = np.array([math.cos(yaw), math.sin(yaw), 0.0])
-        b2 = np.cross(b3, heading)
+        b2 = cross(b3, heading)
         b2 /= np.linalg.norm(b2)
-        return np.column_stack([np.cross(b2, b3), b2, b3])
+        return np.column_stack([cross(b2, b3), b2, b3])
 
 
 def _vee(matrix: np.ndarray) -> np.ndarray:
