@@ -57,6 +57,27 @@ def test_run_exits_cleanly_and_leaves_bag_and_summary(recorded):
     assert not processes_of(out)
 
 
+def test_summary_gives_each_process_cpu_per_simulated_second_and_their_total(recorded):
+    _, out, _ = recorded
+    lines = (out / 'summary.txt').read_text().splitlines()
+    header = lines.index(next(line for line in lines if line.startswith('node ')))
+    assert lines[header].split()[4:6] == ['cpu', 's/sim'], lines[header]
+    rows = {}
+    for line in lines[header + 1:]:
+        fields = line.split()
+        if fields[0] == 'total':
+            total = float(fields[1])
+            break
+        rows[fields[0]] = (float(fields[2]), float(fields[3]))
+    assert {'tethersim', 'recorder', 'talker', 'listener'} <= set(rows), lines
+    simulated = float(lines[1].split()[1])
+    for name, (cpu_s, per_sim_second) in rows.items():
+        assert 0 <= per_sim_second * simulated <= cpu_s + 0.05, (name, lines)  # a part of the whole run's CPU
+    assert total == pytest.approx(sum(rate for _, rate in rows.values()), abs=0.002 * len(rows))
+    assert f'allow at most {(os.cpu_count() or 1) / total:.2f}x real time' in lines[lines.index(next(
+        line for line in lines if line.startswith('total'))) + 1]
+
+
 def _by_topic(sent):
     topics = {}
     for entry in sent:

@@ -19,7 +19,8 @@ Stages:
 5. ``scene NAME`` (``--scene``, default the fullest installed scene): that scene's nodes and
    parameters as they are.
 
-Per process it reports CPU seconds (from the run summary), messages handled counted from the
+Per process it reports CPU seconds from the first tick to the last ack (the run summary's
+``cpu s/sim s``: start-up and shutdown excluded), messages handled counted from the
 bag and the run's ``graph.yaml``: published plus taken (each topic it subscribes to; for a
 lockstep node also both ``/clock`` subscriptions and one ack per ``/clock``; every recorded
 message and one ack per ``/clock`` for the recorder; ``/clock`` and the acks for the time
@@ -76,17 +77,19 @@ class NodeRow:
     stage: str
     config: str
     node: str
-    cpu: float
+    cpu_per_sim_second: float
+    """CPU s per simulated s from the first tick to the last ack (the run summary's ``cpu s/sim s``)."""
     messages: int
     sim_time: float
 
     @property
-    def us_per_message(self) -> float:
-        return self.cpu / self.messages * 1e6 if self.messages else float('nan')
+    def cpu(self) -> float:
+        """CPU s over the simulated time, start-up and shutdown excluded."""
+        return self.cpu_per_sim_second * self.sim_time
 
     @property
-    def cpu_per_sim_second(self) -> float:
-        return self.cpu / self.sim_time
+    def us_per_message(self) -> float:
+        return self.cpu / self.messages * 1e6 if self.messages else float('nan')
 
 
 def _scene(path: Path, nodes: dict, duration: float, config: dict) -> None:
@@ -106,7 +109,7 @@ def scene_nodes(name: str) -> dict:
 
 
 def _summary(run_dir: Path) -> tuple[float, float, dict[str, float]]:
-    """Achieved real-time factor, simulated time and CPU seconds per process from summary.txt."""
+    """Achieved real-time factor, simulated time and CPU s per simulated s of each process from summary.txt."""
     lines = (run_dir / 'summary.txt').read_text().splitlines()
     rate = sim = None
     cpu = {}
@@ -117,9 +120,9 @@ def _summary(run_dir: Path) -> tuple[float, float, dict[str, float]]:
             rate = float(line.split('achieved real-time factor ')[1].split()[0])
         elif line.startswith('node '):
             in_table = True
-        elif in_table and len(line.split()) == 4:
-            name, _, cpu_s, _ = line.split()
-            cpu[name] = float(cpu_s)
+        elif in_table and len(line.split()) == 5:
+            name, _, _, per_sim_second, _ = line.split()
+            cpu[name] = float(per_sim_second)
         elif in_table:
             in_table = False
     return rate, sim, cpu

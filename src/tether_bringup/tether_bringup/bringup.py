@@ -96,6 +96,7 @@ def execute(nodes: list[NodeConfig], source, options: RunOptions) -> int:
     status = 0
     failure: str | None = None
     wall_start = time.monotonic()
+    cpu = RunCpu()
     rclpy.init(signal_handler_options=SignalHandlerOptions.NO)
     node = Node('tethersim')
     executor = make_executor()
@@ -129,7 +130,7 @@ def execute(nodes: list[NodeConfig], source, options: RunOptions) -> int:
                   lambda: f'{", ".join(barrier.behind(0))} did not join the lockstep within {{:.0f}} s '
                           '(a node joins once each of its inputs has a publisher)')
         write_graph(out / 'graph.yaml', node, set(options.exclude))
-        failure = _advance(source, barrier, children, executor, options)
+        failure = _advance(source, barrier, children, executor, options, cpu)
         if failure:
             status = 1
     except _Stop as stop:
@@ -155,7 +156,7 @@ def execute(nodes: list[NodeConfig], source, options: RunOptions) -> int:
             signal.signal(sig, handler)
 
     wall = time.monotonic() - wall_start
-    lines = _summary(options, source, children, wall, failure)
+    lines = _summary(options, source, children, wall, failure, cpu)
     if recorder is not None and recorder.returncode not in (0, None) and status == 0:
         status = 1
     bag_dir = out / 'bag'
@@ -236,8 +237,40 @@ def _wait_for_barrier(barrier: Barrier, time_ns: int, children, executor) -> Non
                            f'{", ".join(behind)} within {STALL_TIMEOUT:.0f} s; last log lines:\n{tails}')
 
 
-def _advance(source, barrier: Barrier, children: list[ChildProcess], executor, options: RunOptions) -> str | None:
+class RunCpu:
+    """CPU seconds of each process (``tethersim`` and the children) at the first tick and once the last is acked.
+
+    Their difference over the simulated time is a process's CPU per simulated second,
+    without its start-up and shutdown, and independent of what else loads the machine.
+    """
+
+    def __init__(self) -> None:
+        self.start: dict[str, float] = {}
+        self.end: dict[str, float] = {}
+        self.sim_time = 0.0
+
+    @staticmethod
+    def sample(children: list[ChildProcess]) -> dict[str, float]:
+        own = resource.getrusage(resource.RUSAGE_SELF)
+        cpu = {'tethersim': own.ru_utime + own.ru_stime}
+        for child in children:
+            now = child.cpu_now()
+            if now is not None:
+                cpu[child.name] = now
+        return cpu
+
+    def per_sim_second(self, name: str) -> float | None:
+        """CPU s per simulated s of one process between the marks, or None without both."""
+        if name not in self.start or name not in self.end or self.sim_time <= 0:
+            return None
+        return (self.end[name] - self.start[name]) / self.sim_time
+
+
+def _advance(source, barrier: Barrier, children: list[ChildProcess], executor, options: RunOptions,
+             cpu: RunCpu) -> str | None:
     """Publish /clock step by step, each once the barrier has reached the window behind it; then wait for the last."""
+    cpu.start = cpu.sample(children)
+    start_time = source.sim_time
     window_ns = round(options.lockstep_window * 1e9)
     next_check = time.monotonic()
     interactive = sys.stderr.isatty()
@@ -266,6 +299,8 @@ def _advance(source, barrier: Barrier, children: list[ChildProcess], executor, o
         _wait_for_barrier(barrier, source.published_ns, children, executor)
     except RunError as error:
         return str(error)
+    cpu.end = cpu.sample(children)
+    cpu.sim_time = source.sim_time - start_time
     return None
 
 
@@ -273,7 +308,7 @@ def _progress(text: str, interactive: bool = False) -> None:
     print(('\r' if interactive else '') + text, end='' if interactive else '\n', file=sys.stderr, flush=True)
 
 
-def _summary(options: RunOptions, source, children, wall: float, failure: str | None) -> list[str]:
+def _summary(options: RunOptions, source, children, wall: float, failure: str | None, cpu: RunCpu) -> list[str]:
     lines = [
         f'{options.title}',
         f'simulated {source.sim_time:.2f} s of {source.duration:.2f} s in {wall:.1f} s wall, start-up included; '
@@ -282,12 +317,21 @@ def _summary(options: RunOptions, source, children, wall: float, failure: str | 
     ]
     if failure:
         lines.append(f'ended early: {failure.splitlines()[0]}')
-    lines.append(f'{"node":<20} {"exit":>5} {"cpu s":>8} {"peak RSS MB":>12}')
+    lines.append(f'{"node":<20} {"exit":>5} {"cpu s":>8} {"cpu s/sim s":>12} {"peak RSS MB":>12}')
     own = resource.getrusage(resource.RUSAGE_SELF)
-    lines.append(f'{"tethersim":<20} {"-":>5} {own.ru_utime + own.ru_stime:8.2f} {own.ru_maxrss / 1024:12.1f}')
-    for child in children:
-        code = '-' if child.returncode is None else str(child.returncode)
-        lines.append(f'{child.name:<20} {code:>5} {child.cpu_time:8.2f} {child.peak_rss / 2**20:12.1f}')
+    rows = [('tethersim', '-', own.ru_utime + own.ru_stime, own.ru_maxrss / 1024)]
+    rows += [(child.name, '-' if child.returncode is None else str(child.returncode), child.cpu_time,
+              child.peak_rss / 2**20) for child in children]
+    for name, code, cpu_s, rss in rows:
+        rate = cpu.per_sim_second(name)
+        lines.append(f'{name:<20} {code:>5} {cpu_s:8.2f} {"-" if rate is None else f"{rate:.3f}":>12} {rss:12.1f}')
+    rates = [rate for rate in (cpu.per_sim_second(name) for name, *_ in rows) if rate is not None]
+    if len(rates) == len(rows) and sum(rates) > 0:
+        total = sum(rates)
+        cores = os.cpu_count() or 1
+        lines.append(f'{"total":<20} {"":>5} {"":>8} {total:12.3f} {"":>12}')
+        lines.append(f'cpu s/sim s: CPU from the first tick to the last ack per simulated second (start-up and '
+                     f'shutdown excluded); {cores} cores allow at most {cores / total:.2f}x real time')
     return lines
 
 

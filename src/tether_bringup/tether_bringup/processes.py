@@ -16,6 +16,7 @@ from collections import deque
 from pathlib import Path
 
 _PR_SET_PDEATHSIG = 1
+_CLOCK_TICKS = os.sysconf('SC_CLK_TCK')
 
 
 def _die_with_parent() -> None:
@@ -73,6 +74,14 @@ class ChildProcess:
             self.signal(signal.SIGKILL)
             self.wait(5.0)
         self._log.close()
+
+    def cpu_now(self) -> float | None:
+        """CPU seconds (user + system) the running child has used so far, from ``/proc``; None once it has exited."""
+        try:
+            fields = Path(f'/proc/{self.pid}/stat').read_text().rpartition(')')[2].split()
+        except OSError:
+            return None
+        return (int(fields[11]) + int(fields[12])) / _CLOCK_TICKS
 
     def tail(self, lines: int = 10) -> list[str]:
         """Return the last ``lines`` lines of the child's log."""

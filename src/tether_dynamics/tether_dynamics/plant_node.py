@@ -156,6 +156,13 @@ class PlantNode(Node):
         self.truth_pub = self.create_publisher(RelativePosition, '/truth/relative', STATE)
         self.nodes_pub = self.create_publisher(TetherNodes, '/tether/nodes', SENSOR)
         self.markers_pub = self.create_publisher(MarkerArray, '/tether/markers', STATE)
+        # One message object per per-step topic, refilled each step: publish() serialises it
+        # at once, and building a message's nested fields anew costs more than the plant step.
+        self.state_msg = TetherState()
+        self.wrench_msg = WrenchStamped()
+        self.truth_msg = RelativePosition()
+        for msg in (self.state_msg, self.wrench_msg, self.truth_msg):
+            msg.header.frame_id = 'world'
         self.lockstep = Lockstep(self)
         self.lockstep.every(1.0 / p['state_rate'], self.step_callback, inputs)
         self.get_logger().info(
@@ -253,9 +260,8 @@ class PlantNode(Node):
         self.steps += 1
 
     def _publish_state(self, stamp, out: PlantOutputs) -> None:
-        msg = TetherState()
+        msg = self.state_msg
         msg.header.stamp = stamp
-        msg.header.frame_id = 'world'
         msg.fidelity = out.fidelity
         msg.element_count = out.element_count if out.fidelity != 'quasi_static' else 0
         _set(msg.reel_end, out.reel_end)
@@ -276,9 +282,8 @@ class PlantNode(Node):
         self.state_pub.publish(msg)
 
     def _publish_wrench(self, stamp, out: PlantOutputs) -> None:
-        msg = WrenchStamped()
+        msg = self.wrench_msg
         msg.header.stamp = stamp
-        msg.header.frame_id = 'world'
         _set(msg.wrench.force, out.force_on_uav)
         _set(msg.wrench.torque, out.moment_on_uav)
         self.wrench_pub.publish(msg)
@@ -296,9 +301,8 @@ class PlantNode(Node):
         if self.truth is not None and t > self.truth[0]:
             acceleration = (velocity - self.truth[2]) / (t - self.truth[0])
         self.truth = (t, position, velocity)
-        msg = RelativePosition()
+        msg = self.truth_msg
         msg.header.stamp = stamp
-        msg.header.frame_id = 'world'
         _set(msg.position, position)
         _set(msg.velocity, velocity)
         _set(msg.acceleration, acceleration)
