@@ -18,7 +18,9 @@ LANDING = 60.0
 
 
 def _landing_run() -> Run:
-    """At the station from 2 s, heaving 0.1 m; lands from 60 s; the tether on the sea (fouled) from 70 s."""
+    """At the station from 2 s, heaving 0.1 m; lands from 60 s; the tether on the sea (fouled) from 70 s; reel trips
+    at 30, 65 and 70 s.
+    """
     t = np.arange(0.0, 80.0, 0.01).round(2)
     z = np.where(t < LANDING, 30.0 + 0.05 * np.sin(t), np.maximum(0.0, 30.0 - 0.5 * (t - LANDING)))
     poses = np.column_stack([t, np.full_like(t, 15.0), np.zeros_like(t), z])
@@ -31,7 +33,8 @@ def _landing_run() -> Run:
     return Run(Path('landing'), 'landing', poses, phases, np.column_stack([t, 0.3 * np.sin(0.7 * t)]), [],
                tether, {**empty, 'dr': np.zeros(0), 'dz': np.zeros(0)},
                {**empty, 'dz': np.zeros(0), 'initialized': np.zeros(0)},
-               {**empty, 'length': np.zeros(0), 'mode': np.zeros(0)}, 0, 0.3)
+               {**empty, 'length': np.zeros(0), 'mode': np.zeros(0)},
+               {'t': np.array([30.0, 65.0, 70.0]), 'count': np.array([1.0, 2.0, 3.0])}, 0.3)
 
 
 def test_the_hold_window_and_the_fouling_figures_end_where_the_landing_starts():
@@ -40,6 +43,7 @@ def test_the_hold_window_and_the_fouling_figures_end_where_the_landing_starts():
     assert r['window'] == pytest.approx((2.0 + 5.0, LANDING))       # 5 s to settle after the arrival
     assert r['keeping']['peak_to_peak'] == pytest.approx(0.1, abs=1e-3)  # the descent is not in it
     assert r['fouling_events'] == 0 and r['fouled_time'] == 0.0 and r['min_deck'] == pytest.approx(2.3)
+    assert r['trips'] == 1                                          # the trips at 65 and 70 s are in the landing
     lines = '\n'.join(summary_lines(r))
     assert 'held 7.0-60.0 s (53.0 s, from 5 s after the arrival within 0.5 m to the landing)' in lines
     assert 'fouling until the landing at 60.0 s: 0 events' in lines
@@ -50,5 +54,5 @@ def test_without_a_landing_the_whole_run_counts():
     run.phases = run.phases[:-1]
     r = analyse(run)
     assert r['landing'] == np.inf and r['window'] == pytest.approx((7.0, 79.99))
-    assert r['fouling_events'] == 1 and r['fouled_time'] == pytest.approx(10.0)
+    assert r['fouling_events'] == 1 and r['fouled_time'] == pytest.approx(10.0) and r['trips'] == 3
     assert 'fouling: 1 events' in '\n'.join(summary_lines(r))

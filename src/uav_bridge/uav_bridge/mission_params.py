@@ -11,7 +11,7 @@ PARAMETERS: tuple[ParamSpec, ...] = (
               'recommended Δr/Δz; thesis outdoor 15 m, indoor 2.5 m)', 'm', low=0.0, high=500.0, read_only=True),
     ParamSpec('bearing', 0.0, 'direction of the radial offset in world, from x (east) toward y (north)', 'deg',
               low=-360.0, high=360.0, read_only=True),
-    ParamSpec('land_time', 0.0, 'sim time at which the mission lands; 0: only on a reel trip', 's', low=0.0,
+    ParamSpec('land_time', 0.0, 'sim time at which the mission lands; 0: none (land_before_end, a reel trip)', 's', low=0.0,
               high=1e9, read_only=True),
     ParamSpec('land_before_end', 0.0, 'land this long before the run ends (the end tethersim run gives its nodes; '
               'land_time, if earlier, still counts); 0: not before land_time', 's', low=0.0, high=1e6,

@@ -13,8 +13,8 @@ Definitions. Every statistic is taken over the station-keeping window: from
 :data:`uav_bridge.report.ARRIVAL` of the station during the mission's ``hold`` phase to the
 phase's end (:func:`uav_bridge.report.hold_interval`), where the landing starts when the
 mission lands at the end of the scene or on a reel trip (``/mission/state`` phase ``land``).
-The fouling figures cover the flight up to the landing: a UAV landing beside the boat lays
-its tether on the sea.
+The fouling figures and the reel's safety trips cover the flight up to the landing: a UAV
+landing beside the boat lays its tether on the sea.
 
 * station keeping (Sec. 6.3): peak-to-peak and standard deviation of the UAV altitude
   (``/uav/pose`` z) and the largest horizontal distance from its mean position;
@@ -95,7 +95,7 @@ class Run:
     truth: dict                # t, dr, dz
     estimate: dict             # t, dz, initialized
     reel: dict                 # t, length, mode
-    trips: int
+    trips: dict                # t, count (the reel's trip_count)
     guide_height: float
     force: dict = field(default_factory=lambda: {c: np.zeros(0) for c in 'txyz'})   # tether on the UAV, N, world
     tether_model: str = 'none'  # the JSON physics' tether_model, or the plant's
@@ -168,8 +168,7 @@ def load_run(path: str | Path) -> Run:
     name = directory.parent.name if directory.name == 'bag' else directory.name
     model = node_parameter(path, 'json_physics', 'tether_model') or ('plant' if len(force['t']) else 'none')
     return Run(path, name, poses, phases, np.column_stack([heave['t'], heave['heave']]), nodes, tether, truth,
-               estimate, reel, int(trips['count'].max()) if len(trips['t']) else 0, _guide_height(path), force,
-               str(model))
+               estimate, reel, trips, _guide_height(path), force, str(model))
 
 
 def cross_correlation(x: np.ndarray, y: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -216,6 +215,7 @@ def analyse(run: Run) -> dict:
     result['end'] = run.phases[-1][2] if run.phases else ''
     result['landing'] = next((t for t, phase, _, _ in run.phases if phase == 'land'), math.inf)
     flying = run.tether['t'] < result['landing']
+    trips = int(run.trips['count'][run.trips['t'] < result['landing']].max(initial=0))
     tt = run.tether['t'][flying]
     deck = run.tether['clearance_deck'][flying] + run.guide_height
     fouled = (deck <= 0.0) | (run.tether['fouling'][flying] > 0.5)
@@ -224,7 +224,7 @@ def analyse(run: Run) -> dict:
     result.update(fouling_events=_events(fouled), fouled_time=float(fouled.sum() * dt),
                   sag_time=float(sag.sum() * dt), min_deck=float(deck.min()) if len(tt) else math.nan,
                   min_sea=float(run.tether['clearance_sea'][flying].min()) if len(tt) else math.nan,
-                  first_fouled=float(tt[np.argmax(fouled)]) if fouled.any() else math.nan, trips=run.trips,
+                  first_fouled=float(tt[np.argmax(fouled)]) if fouled.any() else math.nan, trips=trips,
                   duration=float(run.poses[-1, 0] - run.poses[0, 0]) if run.poses.shape[0] else 0.0)
     if interval is None:
         return result
