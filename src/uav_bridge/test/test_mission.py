@@ -11,6 +11,7 @@ from uav_bridge.mission import Inputs
 from uav_bridge.mission import MissionConfig
 from uav_bridge.mission import MissionLogic
 from uav_bridge.mission import TripMonitor
+from uav_bridge.mission_node import land_time
 
 GROUND = np.array([0.0, 0.0, 0.0])
 
@@ -91,3 +92,11 @@ def test_trip_monitor_counts_a_trip_that_lasts():
     assert monitor.update(11.5, True, 'reel-in stopped') == 'reel-in stopped for 0.50 s'
     assert monitor.update(12.0, False, '') == 'reel-in stopped for 0.50 s'   # latched
     assert TripMonitor().update(3.0, True, 'reel in fault mode') == 'reel in fault mode'
+
+
+def test_the_mission_lands_before_the_end_of_the_run_when_the_run_is_long_enough():
+    assert land_time({'land_time': 0.0, 'land_before_end': 65.0}, 245.0) == 180.0
+    assert land_time({'land_time': 100.0, 'land_before_end': 65.0}, 245.0) == 100.0   # the earlier of the two
+    assert land_time({'land_time': 0.0, 'land_before_end': 65.0}, 20.0) == math.inf   # too short to land
+    assert land_time({'land_time': 0.0, 'land_before_end': 65.0}, None) == math.inf   # end unknown (by hand)
+    assert land_time({'land_time': 0.0, 'land_before_end': 0.0}, 245.0) == math.inf
