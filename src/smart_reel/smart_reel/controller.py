@@ -12,7 +12,19 @@ Catenary-model controller (Fig. 4.2). Every 20 ms (50 Hz):
    controller): ``u_k = -(K_p e_k + K_d (e_k - e_{k-1})/T_s)``, positive paying out,
    clipped to the voltage limit. An optional integral term (``ki``) is frozen while the
    output saturates in the direction the error would drive it (conditional-integration
-   anti-windup); the drive's current limit acts inside the motor model.
+   anti-windup); the drive's current limit acts inside the motor model;
+5. the voltage moves by at most ``R i_max`` (the winding resistance times the drive's
+   current limit, 18 V with the defaults) per controller period from the voltage the drive
+   applied last. A voltage step ``Δu`` on the turning motor first drives ``Δu/R`` through the
+   winding, before the back-EMF follows the spool's new speed; within ``R i_max`` the drive
+   stays off its current limit and the spool settles to the new speed within its
+   mechanical time constant ``J R/(N K)²`` (about 3 ms), well inside the period. The
+   thesis (Sec. 4.2) states no such limit; without it the tuned gain (``K_p`` ≈ 2900 V/m
+   turns 1.6 cm of error into the full 48 V) reversed the drive at its current limit on
+   every centimetre-sized step of the reference (the Kalman filter's corrections at each
+   4 Hz dGPS fix, the 4 Hz radial distance), for longer than a period: the spool's
+   acceleration torque at the limit, ``N K i_max/r`` ≈ 600 N, read as tether tension
+   (:func:`smart_reel.sensors.tension_from_current`) and tripped the reel-in limit.
 
 The gains are not guessed: ``tethersim reel tune`` (:mod:`smart_reel.tuning`) finds them.
 
@@ -58,32 +70,45 @@ class PidOutput:
 
 
 class DiscretePid:
-    """``u = -(kp e + ki Σ e T + kd Δe/T)`` clipped to ``±limit``, conditional-integration anti-windup."""
+    """``u = -(kp e + ki Σ e T + kd Δe/T)`` clipped to ``±limit`` and to ``±step_limit`` around the
+    last applied output, conditional-integration anti-windup."""
 
-    def __init__(self, kp: float, kd: float, ki: float, period: float, limit: float) -> None:
-        if min(kp, kd, ki) < 0.0 or period <= 0.0 or limit <= 0.0:
-            raise ValueError(f'PID needs kp, kd, ki >= 0, period > 0, limit > 0 (got {kp}, {kd}, {ki}, '
-                             f'{period}, {limit})')
+    def __init__(self, kp: float, kd: float, ki: float, period: float, limit: float,
+                 step_limit: float = math.inf) -> None:
+        if min(kp, kd, ki) < 0.0 or period <= 0.0 or limit <= 0.0 or not step_limit > 0.0:
+            raise ValueError(f'PID needs kp, kd, ki >= 0, period > 0, limit > 0, step_limit > 0 (got {kp}, {kd}, '
+                             f'{ki}, {period}, {limit}, {step_limit})')
         self.kp, self.kd, self.ki = kp, kd, ki
         self.period = period
         self.limit = limit
+        self.step_limit = step_limit
         self.integral = 0.0
+        self.output = 0.0
+        """The last output (V); the next moves at most ``step_limit`` from it."""
         self._previous: float | None = None
 
-    def step(self, error: float) -> PidOutput:
-        """One controller period with the error ``error``."""
+    def step(self, error: float, applied: float | None = None) -> PidOutput:
+        """One controller period with the error ``error``.
+
+        ``applied`` is the output actually applied since the last period (default: the last
+        output), e.g. 0 after a brake held the drive; the new output moves at most
+        ``step_limit`` from it.
+        """
         previous = error if self._previous is None else self._previous
         self._previous = error
+        last = self.output if applied is None else applied
+        low = max(-self.limit, last - self.step_limit)
+        high = min(self.limit, last + self.step_limit)
         p = -self.kp * error
         d = -self.kd * (error - previous) / self.period
         i_candidate = self.integral - self.ki * error * self.period
         raw = p + d + i_candidate
-        saturated = abs(raw) > self.limit
+        saturated = not low <= raw <= high
         if not saturated or raw * (i_candidate - self.integral) < 0.0:
             self.integral = i_candidate
         u = p + d + self.integral
-        u = min(max(u, -self.limit), self.limit)
-        return PidOutput(u, p, self.integral, d, saturated)
+        self.output = min(max(u, low), high)
+        return PidOutput(self.output, p, self.integral, d, saturated)
 
 
 @dataclass
@@ -104,21 +129,28 @@ class CatenaryController:
     """Sec. 4.2: reference length, scheduled low-pass filter, PD on motor voltage."""
 
     def __init__(self, kp: float, kd: float, ki: float, period: float, voltage_limit: float,
-                 reference_mode: str = 'poly', scheduler: SchmittScheduler | None = None) -> None:
+                 reference_mode: str = 'poly', scheduler: SchmittScheduler | None = None,
+                 voltage_step: float = math.inf) -> None:
         if reference_mode not in ('poly', 'exact'):
             raise ValueError(f"reference mode must be 'poly' or 'exact', got {reference_mode!r}")
         self.reference_mode = reference_mode
         self.scheduler = scheduler or SchmittScheduler()
         self.filter = LowPass()
-        self.pid = DiscretePid(kp, kd, ki, period, voltage_limit)
+        self.pid = DiscretePid(kp, kd, ki, period, voltage_limit, voltage_step)
 
-    def step(self, dr: float, dz: float, dz_rate: float, length: float) -> CatenaryOutput:
-        """One 50 Hz tick: relative position (m), vertical velocity (m/s), measured length (m)."""
+    def step(self, dr: float, dz: float, dz_rate: float, length: float,
+             applied: float | None = None) -> CatenaryOutput:
+        """One 50 Hz tick: relative position (m), vertical velocity (m/s), measured length (m).
+
+        ``applied``: the voltage (V) the drive applied since the last tick, when it was not
+        this controller's last output (0 after a brake); the new voltage moves at most
+        ``voltage_step`` from it (step 5 of the module docstring).
+        """
         ref = reference_length(dr, dz, self.reference_mode)
         alpha = self.scheduler.update(dz_rate)
         filtered = self.filter.update(ref.length, alpha)  # Eq. 4.1
         error = length - filtered
-        pid = self.pid.step(error)
+        pid = self.pid.step(error, applied)
         return CatenaryOutput(pid.output, ref.length, ref.model, filtered, error, alpha, self.scheduler.slow, pid)
 
 

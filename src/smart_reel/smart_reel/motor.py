@@ -62,6 +62,11 @@ class MotorParameters:
         return self.gear_ratio**2 * self.rotor_inertia
 
     @property
+    def voltage_step(self) -> float:
+        """Largest step of the winding voltage (V) whose first current, ``Δv/R``, stays within ``i_max``."""
+        return self.resistance * self.current_limit
+
+    @property
     def back_emf_damping(self) -> float:
         """Spool-shaft damping of a voltage-driven motor, ``(N K)²/R`` (N m s/rad)."""
         return self.shaft_constant**2 / self.resistance

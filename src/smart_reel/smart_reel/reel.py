@@ -132,7 +132,8 @@ class ReelCore:
         self.step_size = step
         self.control_period = control_period
         self.radial = SampleHold(radial_period)
-        self.catenary = CatenaryController(kp, kd, ki, control_period, voltage_limit, reference_mode, scheduler)
+        self.catenary = CatenaryController(kp, kd, ki, control_period, voltage_limit, reference_mode, scheduler,
+                                           voltage_step=winch.motor.voltage_step)
         self.taut = TautController(taut_torque, winch.motor.shaft_constant)
         self._next_control: float | None = None
         self._drive = BRAKE
@@ -196,7 +197,8 @@ class ReelCore:
             drive, command, direction = BRAKE, 0.0, 0.0
         else:
             dr = self.radial.update(t, inputs.dr)
-            self._control = self.catenary.step(dr, inputs.dz, inputs.dz_rate or 0.0, length)
+            applied = self._command if self._drive == VOLTAGE else 0.0
+            self._control = self.catenary.step(dr, inputs.dz, inputs.dz_rate or 0.0, length, applied)
             drive, command, direction = VOLTAGE, self._control.voltage, self._control.voltage
         self._trip = self.safety.check(direction, inputs.clearance, self._arm_angle, tension)
         if self._trip:

@@ -37,9 +37,9 @@ PARAMETERS: tuple[ParamSpec, ...] = (
     ParamSpec('wait_for_inputs', False, 'run tick t only once /tether/state and the relative position have '
               'reached t - input_delay (false: run on /clock with whatever has arrived; the plant, which does '
               'not wait for /reel/command, then finds the command of every tick)', read_only=True),
-    ParamSpec('kp', 2943.4, 'proportional gain on the length error (`tethersim reel tune`: 60 s JONSWAP, 38 runs)', 'V/m',
+    ParamSpec('kp', 2707.0, 'proportional gain on the length error (`tethersim reel tune`: 60 s JONSWAP, 36 runs)', 'V/m',
               low=0.0, high=1e5, read_only=True),
-    ParamSpec('kd', 8.01, 'derivative gain on the length error (`tethersim reel tune`: 60 s JONSWAP, 38 runs)', 'V s/m',
+    ParamSpec('kd', 9.72, 'derivative gain on the length error (`tethersim reel tune`: 60 s JONSWAP, 36 runs)', 'V s/m',
               low=0.0, high=1e4, read_only=True),
     ParamSpec('ki', 0.0, 'integral gain; 0 is the thesis PD (conditional-integration anti-windup)', 'V/(m s)',
               low=0.0, high=1e5, read_only=True),

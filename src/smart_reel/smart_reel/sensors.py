@@ -14,8 +14,12 @@ keeps its last side. The reading is quantised to the encoder's ``2π/2^bits``.
 Tension from current (Sec. 4.1): the motor current gives the shaft torque ``N K_t i``; at
 the drum radius ``r`` the tether tension that balances it, with the drivetrain's modelled
 viscous and Coulomb friction compensated while the spool turns, is
-``T = (-N K_t i + b ω + τ_c sgn ω)/r``. The spool's inertia is not compensated, as on the
-prototype, so accelerations show in the estimate.
+``T = (-N K_t i + b ω + τ_c sgn ω)/r``. The spool's inertia is not compensated (the thesis
+does not say the prototype did), so accelerations show in the estimate: with the drive at its
+current limit, ``N K_t i_max/r`` ≈ 600 N. Compensating ``J ω̇`` from the encoder does not help:
+the drive's transients last about 3 ms, and encoder differences over 1-3 ms lag them (on the
+recorded outdoor flight that left peaks of 216-273 N). The catenary controller instead keeps
+the drive off its current limit (:mod:`smart_reel.controller`, step 5).
 """
 
 from __future__ import annotations

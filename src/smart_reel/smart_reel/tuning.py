@@ -167,7 +167,7 @@ def closed_loop_response(params: dict, reference, duration: float, length: float
     core = build_core(params, length)
     step = params['step']
     pid = DiscretePid(params['kp'], params['kd'], params['ki'], 1.0 / params['control_rate'],
-                      min(params['voltage_limit'], params['supply_voltage']))
+                      min(params['voltage_limit'], params['supply_voltage']), core.winch.motor.voltage_step)
     per_tick = round(1.0 / params['control_rate'] / step)
     n = round(duration / step)
     t = np.arange(n) * step

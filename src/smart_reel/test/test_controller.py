@@ -8,6 +8,8 @@ import pytest
 from smart_reel.controller import CatenaryController
 from smart_reel.controller import DiscretePid
 from smart_reel.controller import SampleHold
+from smart_reel.motor import MotorParameters
+from smart_reel.motor import current_step
 from smart_reel.tuning import MIN_GAIN_MARGIN
 from smart_reel.tuning import MIN_PHASE_MARGIN
 from smart_reel.tuning import closed_loop_response
@@ -70,6 +72,27 @@ def test_integral_is_frozen_while_saturated_in_the_error_direction():
     out = pid.step(0.01)  # unsaturated: integrates again
     assert pid.integral == pytest.approx(-50.0 * 0.01 * 0.02)
     assert not out.saturated
+
+
+def test_voltage_moves_at_most_the_step_limit_from_the_applied_voltage():
+    pid = DiscretePid(kp=3000.0, kd=0.0, ki=50.0, period=0.02, limit=48.0, step_limit=18.0)
+    assert pid.step(-0.1).output == 18.0  # 300 V wanted
+    assert pid.step(-0.1).output == 36.0
+    assert pid.step(-0.1).output == 48.0
+    reversed_ = pid.step(0.1)  # -300 V wanted from +48 V
+    assert reversed_.output == 30.0 and reversed_.saturated
+    assert pid.integral == 0.0  # frozen while the step limit holds the output against the error
+    assert pid.step(0.1, applied=0.0).output == -18.0  # a brake held the drive at 0 V
+    assert pid.step(0.001).output == pytest.approx(-3.0 - 50.0 * 0.001 * 0.02)
+
+
+def test_step_limit_keeps_a_voltage_step_on_the_turning_motor_within_the_current_limit():
+    motor = MotorParameters()
+    rate = 10.0  # rad/s at the spool, steady under its back-EMF
+    steady = motor.shaft_constant * rate
+    for dv in (motor.voltage_step, 2.0 * motor.voltage_step):
+        settled = current_step(motor, 0.0, steady - dv, rate, 5.0 * motor.inductance / motor.resistance)
+        assert (abs(settled) < motor.current_limit) == (dv == motor.voltage_step)
 
 
 def test_radial_distance_is_held_between_4_hz_samples():

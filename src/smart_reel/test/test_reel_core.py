@@ -1,4 +1,5 @@
-"""The reel core in closed loop against the quasi-static catenary (the tuning's design simulation)."""
+"""The reel core in closed loop against the quasi-static catenary (the tuning's design simulation) and on
+recorded-like estimator input."""
 
 from __future__ import annotations
 
@@ -11,6 +12,7 @@ from smart_reel.tension_model import TetherStiffness
 from smart_reel.tuning import default_parameters
 from smart_reel.tuning import heave_profile
 from smart_reel.tuning import simulate
+from tether_dynamics.statics.reference_length import reference_length
 
 
 def test_catenary_controller_follows_the_reference_on_the_jonswap_profile():
@@ -100,3 +102,26 @@ def test_taut_drive_settles_on_a_stiff_tether_only_with_its_stiffness_between_pl
     assert abs(np.mean(settled) - held) < 0.1 * held
     bouncing = _taut_against_a_delayed_plant(stiffness=False)
     assert np.ptp(bouncing) > held
+
+
+def test_estimator_corrections_at_each_fix_keep_the_drive_off_its_current_limit_and_the_estimate_near_the_tension():
+    # As the outdoor flight's estimate arrives (issue 14's recording, 20.0-20.5 s): the relative altitude
+    # rises at 0.8 m/s, the estimate drifts 4 cm off between the 4 Hz dGPS fixes and is pulled back at each,
+    # and the radial distance is held at 4 Hz with 2.8 cm steps. The tether hangs at 3 N. Stepping the
+    # voltage with these jumps reversed the drive at its current limit: estimate 604 N, 5 reel-in trips.
+    step, fix_period, rate, tension = 0.01, 0.25, 0.8, 3.0
+    core = build_core(default_parameters(), reference_length(15.0, 28.0).length)
+    estimates, limited = [], 0
+    for k in range(400):
+        t = k * step
+        fix = int(t / fix_period)
+        dz = 28.0 + rate * t + 0.16 * (t - fix * fix_period) - 0.02
+        dr = 15.0 + (0.014 if fix % 2 else -0.014)
+        out = core.step(t, ReelInputs(dr, dz, rate, tension))
+        if t >= 1.0:
+            estimates.append(out.tension_estimate)
+            limited += out.current_limited
+    assert np.ptp(estimates) > 10.0  # the drive does work on the jumps
+    assert np.max(np.abs(np.array(estimates) - tension)) < 40.0
+    assert limited == 0
+    assert core.safety.trips == 0
