@@ -70,8 +70,11 @@ class PidOutput:
 
 
 class DiscretePid:
-    """``u = -(kp e + ki Σ e T + kd Δe/T)`` clipped to ``±limit`` and to ``±step_limit`` around the
-    last applied output, conditional-integration anti-windup."""
+    """``u = -(kp e + ki Σ e T + kd Δe/T)`` clipped to ``±limit`` and ``±step_limit`` from the last output.
+
+    Conditional-integration anti-windup: the integral is frozen while either limit holds the
+    output against the direction the error would drive it.
+    """
 
     def __init__(self, kp: float, kd: float, ki: float, period: float, limit: float,
                  step_limit: float = math.inf) -> None:

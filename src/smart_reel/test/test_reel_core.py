@@ -1,5 +1,4 @@
-"""The reel core in closed loop against the quasi-static catenary (the tuning's design simulation) and on
-recorded-like estimator input."""
+"""The reel core against the quasi-static catenary (the tuning's design simulation) and recorded-like input."""
 
 from __future__ import annotations
 
