@@ -8,13 +8,17 @@ import pytest
 
 rclpy = pytest.importorskip('rclpy')
 
+from geometry_msgs.msg import PoseStamped  # noqa: E402
 from geometry_msgs.msg import WrenchStamped  # noqa: E402
 from rclpy.clock import Clock as RosClock  # noqa: E402
 from rclpy.clock import ClockType  # noqa: E402
 from rosgraph_msgs.msg import Clock  # noqa: E402
+from std_srvs.srv import SetBool  # noqa: E402
+from std_srvs.srv import Trigger  # noqa: E402
 from tether_msgs.msg import MissionState  # noqa: E402
 from tether_msgs.msg import ReelControllerDiagnostics  # noqa: E402
 from tether_msgs.msg import ReelState  # noqa: E402
+from tether_msgs.srv import Takeoff  # noqa: E402
 
 from tether_common.qos import CLOCK  # noqa: E402
 from tether_common.qos import LATCHED  # noqa: E402
@@ -110,4 +114,31 @@ def test_a_uav_that_does_not_take_the_command_topic_stops_the_mission_with_one_l
     assert mission.returncode == 2 and 'Traceback' not in err, err
     assert 'error: /uav/state has not answered the arm request of /uav/command 1 within 1 s: run the built-in UAV ' \
            'with command_rate 10' in err
+    assert_clean_exits(stopped)
+
+
+def test_by_hand_the_services_and_the_setpoint_topic_fly_it(ros_domain):  # noqa: F811
+    """Without a mission (command_rate 0) the built-in UAV answers the bridge's services and follows /uav/setpoint,
+    as a user calling them with ``ros2 service call`` and ``ros2 topic pub`` would.
+    """
+    uav = _start('uav_bridge.builtin_uav_node', 'start:=[0.0, 0.0, 0.3]', domain=ros_domain)
+    probe = Probe()
+    publish_clock_wrench_and_reel(probe, WrenchStamped(), ReelState())
+    try:
+        assert probe.call(SetBool, '/uav/arm', SetBool.Request(data=True)).success
+        assert probe.call(Takeoff, '/uav/takeoff', Takeoff.Request(altitude=2.0)).success
+        wait_until(lambda: probe.state() is not None and probe.state().armed and probe.got['pose']
+                   and probe.got['pose'][-1].pose.position.z > 2.0, timeout=60, what='the climb')
+        target = PoseStamped()
+        target.header.frame_id = 'world'
+        target.pose.position.x, target.pose.position.z = 1.0, 2.3
+        probe.setpoint.publish(target)
+        wait_until(lambda: abs(probe.got['pose'][-1].pose.position.x - 1.0) < 0.05, timeout=60, what='the setpoint')
+        assert probe.call(Trigger, '/uav/land', Trigger.Request()).success
+        wait_until(lambda: not probe.state().armed, timeout=60, what='landed and disarmed')
+        assert probe.state().mode == 'LAND' and probe.state().command_sequence == 0
+        assert probe.got['pose'][-1].pose.position.z == pytest.approx(0.3)
+    finally:
+        probe.close()
+        stopped = stop_nodes([uav])
     assert_clean_exits(stopped)
