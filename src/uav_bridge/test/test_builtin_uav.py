@@ -33,6 +33,7 @@ def test_takeoff_hold_and_land_like_arducopter_in_guided():
     assert uav.land()[0]
     state = _run(uav, 40.0, 60.0, pull)
     assert not state.armed and state.mode == 'LAND'
+    np.testing.assert_allclose(state.position, [3.0, 2.5, 0.5], atol=0.05)   # rests where it touched down
     assert state.position[2] == pytest.approx(0.5)
     assert not uav.set_mode('LOITER')[0]
 

@@ -7,7 +7,8 @@ attachment point), the same function the plant integrates; the controller is
 commands the MAVLink bridge forwards to ArduPilot, with ArduCopter's meaning: GUIDED and
 LAND modes, arm, take off to an altitude above the take-off point, position targets in
 GUIDED, LAND descending at ``land_speed`` and disarming on the ground. While disarmed the
-body rests at its start pose (on the ground, the height of ``start``). With a
+body rests on the ground (the height of ``start``): at ``start`` before the first flight, where
+it touched down after a landing. With a
 ``start_height`` it starts armed in GUIDED, hovering that high above ``start``, as a
 tethered run starts with the tether already deployed to the UAV in the air. Its estimate
 is ready at once (it has no EKF start-up).
@@ -66,6 +67,7 @@ class BuiltinUav:
         self.inertia_inv = np.linalg.inv(self.inertia)
         self.rho = np.asarray(config.attach_offset, dtype=float)
         self.start = np.asarray(config.start, dtype=float)
+        self.ground = self.start.copy()
         self.body = np.zeros(bodies.BS_SIZE)
         self.armed = False
         self.mode = 'GUIDED'
@@ -83,7 +85,7 @@ class BuiltinUav:
 
     def _rest(self) -> None:
         self.body[:] = 0.0
-        self.body[bodies.BS_POS:bodies.BS_POS + 3] = self.start
+        self.body[bodies.BS_POS:bodies.BS_POS + 3] = self.ground
         self.body[bodies.BS_QUAT:bodies.BS_QUAT + 4] = (0.0, 0.0, math.sin(self.yaw / 2), math.cos(self.yaw / 2))
 
     # commands, as the bridge's services carry them
@@ -168,6 +170,7 @@ class BuiltinUav:
             self.reference[2] = max(self.start[2] - 0.2, self.reference[2] - self.config.land_speed * dt)
             if self._on_ground():
                 self.armed = False
+                self.ground = np.array([self.body[bodies.BS_POS], self.body[bodies.BS_POS + 1], self.start[2]])
                 self._rest()
                 return
         bodies.body_step(self.body, self.config.mass, self.inertia, self.inertia_inv, self.rho, self.thrust,
