@@ -5,6 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+from tether_bringup.bag_reader import read_bag
 from tethersim_testing import processes_of
 from tethersim_testing import tethersim
 from uav_bridge.mission_report import analyse
@@ -36,6 +37,25 @@ def test_the_uav_reaches_and_holds_its_station_against_the_tether(run):
     assert len(tether['t']) == round(DURATION * 100)           # the plant stepped every 10 ms with the UAV's pose
     assert 30.0 < tether['length'].min() and tether['length'].max() < 40.0
     assert r['shape_mean'] < 1.0 and r['fouling_events'] == 0
+
+
+def _stamp(msg) -> float:
+    return msg.header.stamp.sec + 1e-9 * msg.header.stamp.nanosec
+
+
+def test_the_reel_on_the_estimate_stays_off_its_current_limit_and_its_tension_estimate_near_the_plant(run):
+    # Issue 14: the estimator's corrections at each dGPS fix reversed the drive at its 12 A limit and the
+    # tension from current read the spool's acceleration torque as tension: in these 12 s, 613 N against
+    # the plant's reel-end tension, on 4 current-limited ticks. The reel drives against the tension of
+    # /tether/state 0.1 s old (its input_delay), so that is what its estimate is compared with.
+    bag = read_bag(run, ['/reel/state', '/tether/state'])
+    reel = [m for _, m in bag.decoded('/reel/state')]
+    plant = [m for _, m in bag.decoded('/tether/state')]
+    t = np.array([_stamp(m) for m in reel])
+    seen = np.interp(t - 0.1, [_stamp(m) for m in plant], [m.tension_reel for m in plant])
+    assert not any(m.current_limited for m in reel)
+    assert np.max(np.abs(np.array([m.tension_estimate for m in reel]) - seen)) < 60.0
+    assert max(abs(m.motor_current) for m in reel) > 0.1  # the drive works
 
 
 def test_the_report_prints_the_mission_figures_and_writes_its_plots(run):
