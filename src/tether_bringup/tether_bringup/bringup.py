@@ -45,6 +45,7 @@ from tether_bringup.scene import NodeConfig
 from tether_bringup.sim_clock import rate_text
 from tether_common.lockstep import END_VARIABLE
 from tether_common.lockstep import NODES_VARIABLE
+from tether_common.lockstep import RECORDER_READY_VARIABLE
 from tether_common.node_main import make_executor
 
 READY_TIMEOUT = 180.0
@@ -87,6 +88,9 @@ def execute(nodes: list[NodeConfig], source, options: RunOptions) -> int:
     env = run_environment(options.domain_id, options.discovery, str(out / 'logs' / 'ros'))
     env[NODES_VARIABLE] = ','.join(['tethersim', 'recorder'] + [config.name for config in nodes])
     env[END_VARIABLE] = f'{source.end_time:.9f}'
+    ready_file = out / 'recorder.ready'
+    ready_file.unlink(missing_ok=True)
+    env[RECORDER_READY_VARIABLE] = str(ready_file)
     os.environ.update({key: env[key] for key in ('ROS_DOMAIN_ID', 'ROS_AUTOMATIC_DISCOVERY_RANGE', 'ROS_LOG_DIR')})
     os.environ.pop('ROS_LOCALHOST_ONLY', None)
 
@@ -104,7 +108,6 @@ def execute(nodes: list[NodeConfig], source, options: RunOptions) -> int:
     barrier = Barrier(node, [f'/{config.name}' for config in nodes if config.lockstep] + ['/recorder'])
     try:
         source.attach(node)
-        ready_file = out / 'recorder.ready'
         recorder = _start(out, env, NodeConfig(
             name='recorder', command=[_recorder_program()],
             parameters={'bag_directory': str(out / 'bag'), 'ready_file': str(ready_file),

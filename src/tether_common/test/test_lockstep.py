@@ -12,6 +12,8 @@ from rosgraph_msgs.msg import Clock
 from tether_msgs.msg import LockstepAck
 
 from tether_common.lockstep import ACK_TOPIC
+from tether_common.lockstep import JOIN_SETTLE
+from tether_common.lockstep import RECORDER_READY_VARIABLE
 from tether_common.lockstep import Input
 from tether_common.lockstep import Lockstep
 from tether_common.lockstep import LockstepError
@@ -124,3 +126,25 @@ def test_an_input_must_be_stamped(ros_context):
     with pytest.raises(ValueError, match='period must be positive'):
         Lockstep(node).every(0.0, lambda tick: None)
     node.destroy_node()
+
+
+def test_a_node_joins_only_once_the_recorder_is_ready(ros_context, tmp_path, monkeypatch):
+    """The recorder subscribes to a node's topics by polling the graph: a node that joined before that could
+    publish its first ticks before its publisher has matched the recorder, and the bag would miss them.
+    """
+    ready_file = tmp_path / 'recorder.ready'
+    monkeypatch.setenv(RECORDER_READY_VARIABLE, str(ready_file))
+    node = Node('waiting', context=ros_context)
+    source = Node('source', context=ros_context)
+    acks = []
+    source.create_subscription(LockstepAck, ACK_TOPIC, lambda msg: acks.append(stamp_ns(msg.done)),
+                               LOCKSTEP_ACK_READER)
+    Lockstep(node)
+    executor = make_executor(ros_context)
+    executor.add_node(node)
+    executor.add_node(source)
+    assert not _spin_until(executor, lambda: acks, timeout=2.0 + JOIN_SETTLE)
+    ready_file.write_text('')
+    assert _spin_until(executor, lambda: acks == [0])
+    node.destroy_node()
+    source.destroy_node()

@@ -75,6 +75,7 @@ from tether_common.qos import STATE
 
 ACK_TOPIC = '/lockstep/ack'
 NODES_VARIABLE = 'TETHERSIM_NODES'
+RECORDER_READY_VARIABLE = 'TETHERSIM_RECORDER_READY'
 END_VARIABLE = 'TETHERSIM_END'
 """Set by the bringup for its nodes: the sim time (s) at which the run ends (:func:`run_end`)."""
 JOIN_CHECK_PERIOD = 0.05
@@ -227,6 +228,7 @@ class Lockstep:
         self._stalled_at = None
         self._ready_since = None
         self._expected_nodes = {name for name in os.environ.get(NODES_VARIABLE, '').split(',') if name}
+        self._recorder_ready = os.environ.get(RECORDER_READY_VARIABLE, '')
         self._ack_pub = node.create_publisher(LockstepAck, ACK_TOPIC, LOCKSTEP_ACK)
         self._clock_sub = node.create_subscription(ClockMsg, '/clock', self._on_clock, CLOCK)
         steady = Clock(clock_type=ClockType.STEADY_TIME)
@@ -301,11 +303,18 @@ class Lockstep:
 
     def _try_join(self) -> None:
         """Join once every node of the run is in the graph (``TETHERSIM_NODES``, set by the bringup),
-        every input has a publisher and every publisher of the node has matched every subscription
-        the graph shows, all unchanged for ``JOIN_SETTLE``: no message of the first ticks is
-        published before its subscribers are matched.
+        the recorder has subscribed to every topic (its ready file, ``TETHERSIM_RECORDER_READY``,
+        exists), every input has a publisher and every publisher of the node has matched every
+        subscription the graph shows, all unchanged for ``JOIN_SETTLE``: no message of the first
+        ticks is published before its subscribers are matched. Matching is seen from each side
+        on its own: the recorder's subscription matching a publisher does not mean the publisher
+        has matched it, so the node checks its own publishers once the recorder's subscriptions
+        are in the graph.
         """
         node = self._node
+        if self._recorder_ready and not os.path.exists(self._recorder_ready):
+            self._ready_since = None
+            return
         present = {name for name, _ in node.get_node_names_and_namespaces()}
         ready = self._expected_nodes <= present and all(
             stream.subscription.get_publisher_count() > 0 for stream in self._streams.values()) and all(
