@@ -1,7 +1,8 @@
 """A flight with the built-in UAV is reproducible: the mission and the UAV act on stamped inputs (lockstep).
 
 A shortened ``outdoor_flight`` (the UAV disarmed on a pad 2 m below the station, so the
-mission arms it, takes off, climbs, holds and lands ``land_before_end`` before the end) is
+mission arms it, takes off, climbs, holds, returns over a pad 1 m nearer the boat and lands,
+the landing starting ``land_before_end`` before the end) is
 run twice at ``--rate max``, the second time with every core kept busy by other processes.
 Every topic must record the same messages, field by field and in order, at the same log
 times; and each request the mission sends on ``/uav/command`` must be carried out one
@@ -10,6 +11,7 @@ mission period later, by the ``/uav/state`` stamped there.
 
 from __future__ import annotations
 
+import numpy as np
 import pytest
 import yaml
 
@@ -21,9 +23,12 @@ from tethersim_testing import bag_contents
 from tethersim_testing import busy_cores
 from tethersim_testing import tethersim
 
-DURATION = 5.0
-"""s of sim time: arm at 0.1 s, take off at 0.2 s, the 2 m climb, hold, the landing from 3.5 s."""
-LAND_BEFORE_END = 1.5
+DURATION = 6.0
+"""s of sim time: arm at 0.1 s, take off at 0.2 s, the 2 m climb, hold, the return from 3.5 s, the descent."""
+LAND_BEFORE_END = 2.5
+PAD = [14.0, 0.0]
+"""m: the pad the UAV returns over, 1 m from the station (15 m radial)."""
+RETURN_SPEED = 2.0
 MISSION_PERIOD_NS = 100_000_000
 """The mission's step (rate 10 Hz): the built-in UAV's delay on /uav/command."""
 
@@ -34,7 +39,8 @@ def short_flight(directory) -> str:
     scene['duration'] = DURATION
     scene['reports'] = []
     scene['nodes']['uav']['parameters'].update(start=[15.0, 0.0, 28.0], start_height=0.0)
-    scene['nodes']['mission']['parameters']['land_before_end'] = LAND_BEFORE_END
+    scene['nodes']['mission']['parameters'].update(land_before_end=LAND_BEFORE_END, pad=PAD,
+                                                   return_speed=RETURN_SPEED)
     path = directory / 'short_flight.yaml'
     path.write_text(yaml.safe_dump(scene))
     return str(path)
@@ -79,5 +85,13 @@ def test_each_request_is_carried_out_one_mission_period_later(runs):
         assert done == stamp + MISSION_PERIOD_NS, request
         assert next(m for t, m in states if t == done).command_success, request
     phases = [(stamp_ns(m.header.stamp), m.phase) for _, m in bag.decoded('/mission/state')]
-    assert [phase for _, phase in phases] == ['arm', 'takeoff', 'climb', 'hold', 'land']
-    assert phases[-1][0] == round((DURATION - LAND_BEFORE_END) * 1e9)
+    assert [phase for _, phase in phases] == ['arm', 'takeoff', 'climb', 'hold', 'return', 'land']
+    returning, landing = phases[-2][0], phases[-1][0]
+    assert returning == round((DURATION - LAND_BEFORE_END) * 1e9)
+    path = np.array([[m.setpoint.x, m.setpoint.y, m.setpoint.z] for m in commands
+                     if returning <= stamp_ns(m.header.stamp) < landing])
+    assert all(m.hold for m in commands if returning <= stamp_ns(m.header.stamp) < landing)
+    np.testing.assert_allclose(path[0], [15.0, 0.0, 30.0])                      # from the station
+    np.testing.assert_allclose(path[-1], PAD + [30.0])                          # over the pad, hold altitude
+    assert np.linalg.norm(np.diff(path, axis=0), axis=1).max() <= RETURN_SPEED * MISSION_PERIOD_NS / 1e9 + 1e-9
+    assert not any(m.hold for m in commands if stamp_ns(m.header.stamp) >= landing)

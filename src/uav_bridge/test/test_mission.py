@@ -44,7 +44,10 @@ def test_full_sequence_requests_one_thing_at_a_time():
     np.testing.assert_allclose(out.setpoint, [2.5, 0.0, 5.0])
     out = logic.step(100.0, Inputs(connected=True, position_ready=True, position=np.array([2.5, 0.0, 5.0]),
                                    mode='GUIDED', armed=True))
-    assert out.phase == 'land' and out.request == ('land', None) and out.reason == 'end of the mission'
+    assert out.phase == 'return' and out.request is None and out.reason == 'end of the mission'
+    out = logic.step(103.0, Inputs(connected=True, position_ready=True, position=np.array([0.2, 0.0, 5.0]),
+                                   mode='GUIDED', armed=True))
+    assert out.phase == 'land' and out.request == ('land', None) and out.setpoint is None
     out = logic.step(101.0, Inputs(connected=True, position_ready=True, position=np.array([2.5, 0.0, 4.0]),
                                    mode='LAND', armed=True))
     assert out.phase == 'land' and out.request is None
@@ -100,3 +103,64 @@ def test_the_mission_lands_before_the_end_of_the_run_when_the_run_is_long_enough
     assert land_time({'land_time': 0.0, 'land_before_end': 65.0}, 20.0) == math.inf   # too short to land
     assert land_time({'land_time': 0.0, 'land_before_end': 65.0}, None) == math.inf   # end unknown (by hand)
     assert land_time({'land_time': 0.0, 'land_before_end': 0.0}, 245.0) == math.inf
+
+
+FLYING = dict(connected=True, position_ready=True, mode='GUIDED', armed=True)
+
+
+def test_the_end_returns_over_the_pad_at_the_hold_altitude_at_the_return_speed_then_lands():
+    logic = MissionLogic(MissionConfig(altitude=30.0, radial=15.0, land_time=100.0, pad=(0.0, 0.0),
+                                       return_speed=1.0, return_tolerance=0.5))
+    logic.phase = 'hold'
+    station = np.array([15.0, 0.0, 30.0])
+    setpoints = []
+    for k in range(0, 200):
+        t = 100.0 + 0.1 * k
+        behind = max(0.0, 15.0 - 0.1 * (k - 10)) if k >= 10 else 15.0      # the UAV 1 s behind the setpoint
+        out = logic.step(t, Inputs(**FLYING, position=np.array([behind, 0.0, 30.0])))
+        if out.phase != 'return':
+            break
+        setpoints.append((t, out.setpoint))
+    assert out.phase == 'land' and out.request == ('land', None) and out.setpoint is None
+    times = np.array([t for t, _ in setpoints])
+    path = np.array([p for _, p in setpoints])
+    np.testing.assert_allclose(path[0], station)                        # from the station
+    np.testing.assert_allclose(path[:, 2], 30.0)                        # at the hold altitude
+    np.testing.assert_allclose(path[:, 1], 0.0)                         # straight toward the pad
+    steps = np.linalg.norm(np.diff(path, axis=0), axis=1)
+    assert steps.max() <= 1.0 * 0.1 + 1e-9                              # the speed bound, 1 m/s at 10 Hz
+    np.testing.assert_allclose(path[times >= 115.0], [[0.0, 0.0, 30.0]] * int((times >= 115.0).sum()))
+    assert times[-1] >= 115.0 - 1e-9                                    # 15 m at 1 m/s before the landing
+    assert logic.outcome == 'end of the mission' and not logic.aborted
+
+
+def test_the_return_waits_for_the_uav_over_the_pad_and_a_reel_trip_lands_at_once():
+    logic = MissionLogic(MissionConfig(altitude=5.0, radial=2.5, land_time=10.0, pad=(1.0, -1.0),
+                                       return_tolerance=0.5))
+    logic.phase = 'hold'
+    far = np.array([2.5, 0.0, 5.0])
+    assert logic.step(10.0, Inputs(**FLYING, position=far)).phase == 'return'
+    out = logic.step(20.0, Inputs(**FLYING, position=far))
+    assert out.phase == 'return'                                        # the setpoint is over the pad, the UAV not
+    np.testing.assert_allclose(out.setpoint, [1.0, -1.0, 5.0])
+    out = logic.step(20.1, Inputs(**FLYING, position=far, reel_fault='fouling'))
+    assert out.phase == 'land' and out.request == ('land', None) and logic.aborted
+
+
+def test_the_setpoint_of_the_return_depends_on_the_step_time_alone():
+    configs = MissionConfig(altitude=30.0, radial=15.0, land_time=50.0)
+    a, b = MissionLogic(configs), MissionLogic(configs)
+    for logic in (a, b):
+        logic.phase = 'hold'
+        logic.step(50.0, Inputs(**FLYING, position=np.array([15.0, 0.0, 30.0])))
+    a.step(51.0, Inputs(**FLYING, position=np.array([14.0, 0.0, 30.0])))
+    out_a = a.step(57.3, Inputs(**FLYING, position=np.array([9.0, 0.0, 30.0])))
+    out_b = b.step(57.3, Inputs(**FLYING, position=np.array([12.0, 0.0, 31.0])))
+    np.testing.assert_allclose(out_a.setpoint, out_b.setpoint)
+    np.testing.assert_allclose(out_a.setpoint, [15.0 - 7.3, 0.0, 30.0])
+
+
+def test_the_end_before_take_off_lands_without_a_return():
+    logic = MissionLogic(MissionConfig(land_time=5.0))
+    out = logic.step(5.0, Inputs(connected=True, position_ready=True, position=GROUND, mode='GUIDED'))
+    assert out.phase == 'landed' and logic.outcome == 'end of the mission'       # disarmed: on the ground

@@ -1,5 +1,5 @@
 """The mission report on a known run that lands at the end: the hold window and the fouling figures stop where the
-landing starts (its /mission/state phase ``land``).
+landing starts (its /mission/state phase ``return`` at the end of the mission, ``land`` on a reel trip).
 """
 
 from __future__ import annotations
@@ -17,15 +17,17 @@ STATION = (15.0, 0.0, 30.0)
 LANDING = 60.0
 
 
-def _landing_run() -> Run:
-    """At the station from 2 s, heaving 0.1 m; lands from 60 s; the tether on the sea (fouled) from 70 s; reel trips
-    at 30, 65 and 70 s.
+def _landing_run(returns: bool = True) -> Run:
+    """At the station from 2 s, heaving 0.1 m; lands from 60 s (returning over the pad first, or at once on a trip);
+    the tether on the sea (fouled) from 70 s; reel trips at 30, 65 and 70 s.
     """
     t = np.arange(0.0, 80.0, 0.01).round(2)
     z = np.where(t < LANDING, 30.0 + 0.05 * np.sin(t), np.maximum(0.0, 30.0 - 0.5 * (t - LANDING)))
     poses = np.column_stack([t, np.full_like(t, 15.0), np.zeros_like(t), z])
     phases = [(0.1, 'arm', '', STATION), (0.2, 'takeoff', '', STATION), (0.3, 'climb', '', STATION),
-              (2.0, 'hold', '', STATION), (LANDING, 'land', 'end of the mission', STATION)]
+              (2.0, 'hold', '', STATION)]
+    phases += ([(LANDING, 'return', 'end of the mission', STATION), (LANDING + 5.0, 'land', 'end of the mission', STATION)]
+               if returns else [(LANDING, 'land', 'aborted: reel trip: fouling', STATION)])
     fouled = t >= 70.0
     tether = {'t': t, 'clearance_deck': np.where(fouled, -1.0, 2.0), 'clearance_sea': np.where(fouled, 0.0, 3.0),
               'fouling': fouled.astype(float), 'length': np.full_like(t, 33.3)}
@@ -37,8 +39,9 @@ def _landing_run() -> Run:
                {'t': np.array([30.0, 65.0, 70.0]), 'count': np.array([1.0, 2.0, 3.0])}, 0.3)
 
 
-def test_the_hold_window_and_the_fouling_figures_end_where_the_landing_starts():
-    r = analyse(_landing_run())
+@pytest.mark.parametrize('returns', [True, False], ids=['return, land', 'land on a trip'])
+def test_the_hold_window_and_the_fouling_figures_end_where_the_landing_starts(returns):
+    r = analyse(_landing_run(returns))
     assert r['landing'] == LANDING
     assert r['window'] == pytest.approx((2.0 + 5.0, LANDING))       # 5 s to settle after the arrival
     assert r['keeping']['peak_to_peak'] == pytest.approx(0.1, abs=1e-3)  # the descent is not in it
@@ -51,7 +54,7 @@ def test_the_hold_window_and_the_fouling_figures_end_where_the_landing_starts():
 
 def test_without_a_landing_the_whole_run_counts():
     run = _landing_run()
-    run.phases = run.phases[:-1]
+    run.phases = [phase for phase in run.phases if phase[1] not in ('return', 'land')]
     r = analyse(run)
     assert r['landing'] == np.inf and r['window'] == pytest.approx((7.0, 79.99))
     assert r['fouling_events'] == 1 and r['fouled_time'] == pytest.approx(10.0) and r['trips'] == 3

@@ -10,8 +10,14 @@ position while the boat heaves under it and the reel absorbs the motion.
 and returns what to do (:class:`Outputs`): at most one autopilot request at a time (mode,
 arm, takeoff, land, with the answer of the previous one fed back) and the position setpoint.
 Phases: ``wait`` (for the link and the autopilot's position estimate) → ``guided`` →
-``arm`` → ``takeoff`` → ``climb`` → ``hold`` → ``land`` → ``landed``. A reel trip (tension
-or fouling) or the end time sends it to ``land`` from any phase, and the reason is kept.
+``arm`` → ``takeoff`` → ``climb`` → ``hold`` → ``return`` → ``land`` → ``landed``. At the
+end time a flying UAV returns over its take-off pad on the boat before it lands, as
+ArduCopter's RTL does: the setpoint moves horizontally from the station to over the pad at
+the hold altitude at ``return_speed`` (so the reel, reeling in, keeps up), a function of the
+step's time alone; once the UAV is within ``return_tolerance`` of the pad horizontally the
+mission lands, descending onto the pad: the reverse of the take-off path. A reel trip
+(tension or fouling) sends it to ``land`` from any phase at once, where it is, and the
+reason is kept.
 :class:`TripMonitor` decides when a reel trip counts: once the reel has stayed tripped for
 ``abort_after`` seconds (0: at once).
 """
@@ -23,7 +29,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-PHASES = ('wait', 'guided', 'arm', 'takeoff', 'climb', 'hold', 'land', 'landed')
+PHASES = ('wait', 'guided', 'arm', 'takeoff', 'climb', 'hold', 'return', 'land', 'landed')
+FLYING = ('takeoff', 'climb', 'hold')
+"""Phases from which the end of the mission returns over the pad before landing."""
 
 
 @dataclass(frozen=True)
@@ -36,6 +44,9 @@ class MissionConfig:
     land_time: float = math.inf     # s, time at which the mission lands
     climb_tolerance: float = 0.5    # m, take-off altitude reached within this
     retry_period: float = 2.0       # s, wait after a refused request before asking again
+    pad: tuple = (0.0, 0.0)         # m, take-off pad on the boat, horizontal in world (the guide way: origin)
+    return_speed: float = 1.0       # m/s, horizontal speed of the setpoint returning over the pad
+    return_tolerance: float = 0.5   # m, horizontal distance from over the pad at which the landing starts
 
     def station(self) -> np.ndarray:
         """The station in world (ENU, m)."""
@@ -107,6 +118,7 @@ class MissionLogic:
         self.outcome = ''
         self.takeoff_altitude = 0.0
         self._next_request = -math.inf
+        self._return_start: tuple[float, np.ndarray] | None = None    # (start time s, start setpoint m)
 
     def step(self, t: float, inputs: Inputs) -> Outputs:
         """Advance to time ``t`` (s) with ``inputs``; return the request and setpoint to send."""
@@ -118,9 +130,15 @@ class MissionLogic:
                 self.outcome = f'aborted: reel trip: {inputs.reel_fault}'
                 self.aborted = True
                 self._enter('land')
-            elif t >= self.config.land_time:
+            elif t >= self.config.land_time and self.phase != 'return':
                 self.outcome = 'end of the mission'
-                self._enter('land')
+                if self.phase in FLYING and inputs.position is not None:
+                    start = self.station.copy() if self.phase == 'hold' else inputs.position.copy()
+                    start[2] = self.station[2]
+                    self._return_start = (t, start)
+                    self._enter('return')
+                else:
+                    self._enter('land')
         handler = getattr(self, f'_{self.phase}')
         request, setpoint = handler(t, inputs)
         if request is not None:
@@ -174,6 +192,25 @@ class MissionLogic:
 
     def _hold(self, t, inputs):
         return None, self.station.copy()
+
+    def return_setpoint(self, t: float) -> np.ndarray:
+        """The return's setpoint at ``t`` (s): from its start toward over the pad at ``return_speed``, hold altitude."""
+        assert self._return_start is not None, 'the return has not started'
+        t0, start = self._return_start
+        target = np.array([self.config.pad[0], self.config.pad[1], start[2]])
+        distance = float(np.linalg.norm(target - start))
+        travelled = min(distance, self.config.return_speed * max(0.0, t - t0))
+        return target.copy() if travelled >= distance else start + (target - start) * (travelled / distance)
+
+    def _return(self, t, inputs):
+        setpoint = self.return_setpoint(t)
+        pad = np.asarray(self.config.pad, dtype=float)
+        over = (np.allclose(setpoint[:2], pad) and inputs.position is not None
+                and float(np.linalg.norm(inputs.position[:2] - pad)) <= self.config.return_tolerance)
+        if over:
+            self._enter('land')
+            return self._land(t, inputs)
+        return None, setpoint
 
     def _land(self, t, inputs):
         if not inputs.armed:

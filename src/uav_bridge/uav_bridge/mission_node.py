@@ -22,11 +22,13 @@ at a time (mode, arm, takeoff, land; the answer fed to the next step) over one o
   ``/uav/pose``, ``/reel/state`` and ``/reel/diagnostics`` are used as they arrive. The
   autopilot runs on its own clock outside the lockstep, so such a run is not reproducible.
 
-A reel trip lands the UAV: the reel in its fault mode (ReelState.MODE_FAULT: a safety trip
-holds it, its reason in ``/reel/diagnostics`` ``safety_trip``) for ``abort_after`` s, or a
+At the end the mission returns over the pad (``pad``) at ``return_speed``, the setpoint on
+the link as while holding, then lands. A reel trip lands the UAV where it is: the reel in its
+fault mode (ReelState.MODE_FAULT: a safety trip holds it, its reason in ``/reel/diagnostics`` ``safety_trip``) for ``abort_after`` s, or a
 tension estimate above ``abort_tension`` (:class:`uav_bridge.mission.TripMonitor`). The
-mission lands at ``land_time``, or ``land_before_end`` s before the end of the run
-(:func:`tether_common.lockstep.run_end`), whichever comes first.
+mission's landing (the return and the descent) starts at ``land_time``, or
+``land_before_end`` s before the end of the run (:func:`tether_common.lockstep.run_end`),
+whichever comes first.
 """
 
 from __future__ import annotations
@@ -87,6 +89,8 @@ class MissionNode(Node):
         super().__init__('mission')
         try:
             params = declare_parameters(self, PARAMETERS)
+            if len(params['pad']) != 2:
+                raise ValueError(f'parameter pad: expected 2 numbers (x, y), got {params["pad"]}')
         except ValueError as error:
             raise ConfigurationError(str(error)) from None
         end = run_end()
@@ -98,7 +102,8 @@ class MissionNode(Node):
         self.logic = MissionLogic(MissionConfig(
             altitude=params['altitude'], radial=params['radial'], bearing=math.radians(params['bearing']),
             land_time=land_time(params, end), climb_tolerance=params['climb_tolerance'],
-            retry_period=params['retry_period']))
+            retry_period=params['retry_period'], pad=tuple(params['pad']), return_speed=params['return_speed'],
+            return_tolerance=params['return_tolerance']))
         self.abort_tension = params['abort_tension']
         self.trips = TripMonitor(params['abort_after'])
         self.trip_reason = ''
@@ -111,7 +116,8 @@ class MissionNode(Node):
         station = self.logic.station
         self.get_logger().info(f'mission: station {station[2]:g} m up, {math.hypot(*station[:2]):g} m radial '
                                f'(Δr/Δz {math.hypot(*station[:2]) / station[2]:.2f}) in world, over '
-                               f'{params["uav_link"]}; lands at {self.logic.config.land_time:g} s')
+                               f'{params["uav_link"]}; returns over the pad at {list(params["pad"])} m at '
+                               f'{params["return_speed"]:g} m/s and lands from {self.logic.config.land_time:g} s')
 
     def reel_state(self, msg: ReelState) -> None:
         """Feed the trip monitor: fault mode, or tension above the abort threshold."""

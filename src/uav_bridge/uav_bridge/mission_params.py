@@ -13,9 +13,17 @@ PARAMETERS: tuple[ParamSpec, ...] = (
               low=-360.0, high=360.0, read_only=True),
     ParamSpec('land_time', 0.0, 'sim time at which the mission lands; 0: none (land_before_end, a reel trip)', 's', low=0.0,
               high=1e9, read_only=True),
-    ParamSpec('land_before_end', 0.0, 'land this long before the run ends (the end tethersim run gives its nodes; '
-              'land_time, if earlier, still counts); 0: not before land_time', 's', low=0.0, high=1e6,
+    ParamSpec('land_before_end', 0.0, 'time reserved for the landing (the return over the pad and the descent): '
+              'start it this long before the run ends (the end tethersim run gives its nodes; land_time, if '
+              'earlier, still counts); 0: not before land_time', 's', low=0.0, high=1e6,
               read_only=True),
+    ParamSpec('pad', [0.0, 0.0], 'take-off pad on the boat, horizontal in world (x east, y north): at the end the '
+              'UAV returns over it at the hold altitude, then lands on it; [0, 0]: over the guide way', 'm',
+              read_only=True),
+    ParamSpec('return_speed', 1.0, 'horizontal speed of the setpoint returning over the pad (bounded so that the '
+              'reel, reeling in, keeps up)', 'm/s', low=0.05, high=20.0, read_only=True),
+    ParamSpec('return_tolerance', 0.5, 'the landing starts once the UAV is this close to over the pad, '
+              'horizontally', 'm', low=0.05, high=10.0, read_only=True),
     ParamSpec('abort_tension', 0.0, 'land when the reel\'s tension estimate exceeds this; 0: only on the reel\'s '
               'fault mode', 'N', low=0.0, high=1e5, read_only=True),
     ParamSpec('abort_after', 0.0, 'land once a reel trip (fault mode, or the abort tension) has lasted this long; '

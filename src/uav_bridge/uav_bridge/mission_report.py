@@ -11,8 +11,9 @@ figures beside the thesis's.
 Definitions. Every statistic is taken over the station-keeping window: from
 :data:`uav_bridge.report.SETTLE` after the UAV's first arrival within
 :data:`uav_bridge.report.ARRIVAL` of the station during the mission's ``hold`` phase to the
-phase's end (:func:`uav_bridge.report.hold_interval`), where the landing starts when the
-mission lands at the end of the scene or on a reel trip (``/mission/state`` phase ``land``).
+phase's end (:func:`uav_bridge.report.hold_interval`), where the landing starts: the return
+over the pad at the end of the scene (``/mission/state`` phase ``return``), or the descent
+at once on a reel trip (phase ``land``).
 The fouling figures and the reel's safety trips cover the flight up to the landing: a UAV
 landing beside the boat lays its tether on the sea.
 
@@ -213,7 +214,7 @@ def analyse(run: Run) -> dict:
     result['interval'] = interval
     result['phases'] = list(dict.fromkeys(phase for _, phase, _, _ in run.phases))
     result['end'] = run.phases[-1][2] if run.phases else ''
-    result['landing'] = next((t for t, phase, _, _ in run.phases if phase == 'land'), math.inf)
+    result['landing'] = next((t for t, phase, _, _ in run.phases if phase in ('return', 'land')), math.inf)
     flying = run.tether['t'] < result['landing']
     trips = int(run.trips['count'][run.trips['t'] < result['landing']].max(initial=0))
     tt = run.tether['t'][flying]
