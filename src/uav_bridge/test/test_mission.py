@@ -164,3 +164,10 @@ def test_the_end_before_take_off_lands_without_a_return():
     logic = MissionLogic(MissionConfig(land_time=5.0))
     out = logic.step(5.0, Inputs(connected=True, position_ready=True, position=GROUND, mode='GUIDED'))
     assert out.phase == 'landed' and logic.outcome == 'end of the mission'       # disarmed: on the ground
+
+
+def test_return_speed_zero_lands_where_the_uav_is():
+    logic = MissionLogic(MissionConfig(altitude=30.0, radial=15.0, land_time=10.0, return_speed=0.0))
+    logic.phase = 'hold'
+    out = logic.step(10.0, Inputs(**FLYING, position=np.array([15.0, 0.0, 30.0])))
+    assert out.phase == 'land' and out.request == ('land', None) and out.setpoint is None

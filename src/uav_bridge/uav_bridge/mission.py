@@ -15,7 +15,8 @@ end time a flying UAV returns over its take-off pad on the boat before it lands,
 ArduCopter's RTL does: the setpoint moves horizontally from the station to over the pad at
 the hold altitude at ``return_speed`` (so the reel, reeling in, keeps up), a function of the
 step's time alone; once the UAV is within ``return_tolerance`` of the pad horizontally the
-mission lands, descending onto the pad: the reverse of the take-off path. A reel trip
+mission lands, descending onto the pad: the reverse of the take-off path (``return_speed``
+0: it lands where it is). A reel trip
 (tension or fouling) sends it to ``land`` from any phase at once, where it is, and the
 reason is kept.
 :class:`TripMonitor` decides when a reel trip counts: once the reel has stayed tripped for
@@ -45,7 +46,7 @@ class MissionConfig:
     climb_tolerance: float = 0.5    # m, take-off altitude reached within this
     retry_period: float = 2.0       # s, wait after a refused request before asking again
     pad: tuple = (0.0, 0.0)         # m, take-off pad on the boat, horizontal in world (the guide way: origin)
-    return_speed: float = 1.0       # m/s, horizontal speed of the setpoint returning over the pad
+    return_speed: float = 1.0       # m/s, horizontal speed of the setpoint returning over the pad; 0: no return
     return_tolerance: float = 0.5   # m, horizontal distance from over the pad at which the landing starts
 
     def station(self) -> np.ndarray:
@@ -132,7 +133,7 @@ class MissionLogic:
                 self._enter('land')
             elif t >= self.config.land_time and self.phase != 'return':
                 self.outcome = 'end of the mission'
-                if self.phase in FLYING and inputs.position is not None:
+                if self.phase in FLYING and inputs.position is not None and self.config.return_speed > 0.0:
                     start = self.station.copy() if self.phase == 'hold' else inputs.position.copy()
                     start[2] = self.station[2]
                     self._return_start = (t, start)

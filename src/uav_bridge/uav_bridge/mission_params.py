@@ -21,7 +21,8 @@ PARAMETERS: tuple[ParamSpec, ...] = (
               'UAV returns over it at the hold altitude, then lands on it; [0, 0]: over the guide way', 'm',
               read_only=True),
     ParamSpec('return_speed', 1.0, 'horizontal speed of the setpoint returning over the pad (bounded so that the '
-              'reel, reeling in, keeps up)', 'm/s', low=0.05, high=20.0, read_only=True),
+              'reel, reeling in, keeps up); 0: no return, the UAV lands where it is', 'm/s', low=0.0, high=20.0,
+              read_only=True),
     ParamSpec('return_tolerance', 0.5, 'the landing starts once the UAV is this close to over the pad, '
               'horizontally', 'm', low=0.05, high=10.0, read_only=True),
     ParamSpec('abort_tension', 0.0, 'land when the reel\'s tension estimate exceeds this; 0: only on the reel\'s '
