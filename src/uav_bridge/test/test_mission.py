@@ -24,7 +24,7 @@ def test_station_of_the_thesis_flights():
 
 
 def test_full_sequence_requests_one_thing_at_a_time():
-    logic = MissionLogic(MissionConfig(altitude=5.0, radial=2.5, land_time=100.0))
+    logic = MissionLogic(MissionConfig(altitude=5.0, radial=2.5, land_time=100.0, return_speed=1.0))
     out = logic.step(0.0, Inputs(connected=True, position_ready=False, position=GROUND, mode='STABILIZE'))
     assert out.phase == 'wait' and out.request is None
     out = logic.step(1.0, Inputs(connected=True, position_ready=True, position=GROUND, mode='STABILIZE'))
@@ -136,7 +136,7 @@ def test_the_end_returns_over_the_pad_at_the_hold_altitude_at_the_return_speed_t
 
 def test_the_return_waits_for_the_uav_over_the_pad_and_a_reel_trip_lands_at_once():
     logic = MissionLogic(MissionConfig(altitude=5.0, radial=2.5, land_time=10.0, pad=(1.0, -1.0),
-                                       return_tolerance=0.5))
+                                       return_speed=1.0, return_tolerance=0.5))
     logic.phase = 'hold'
     far = np.array([2.5, 0.0, 5.0])
     assert logic.step(10.0, Inputs(**FLYING, position=far)).phase == 'return'
@@ -148,7 +148,7 @@ def test_the_return_waits_for_the_uav_over_the_pad_and_a_reel_trip_lands_at_once
 
 
 def test_the_setpoint_of_the_return_depends_on_the_step_time_alone():
-    configs = MissionConfig(altitude=30.0, radial=15.0, land_time=50.0)
+    configs = MissionConfig(altitude=30.0, radial=15.0, land_time=50.0, return_speed=1.0)
     a, b = MissionLogic(configs), MissionLogic(configs)
     for logic in (a, b):
         logic.phase = 'hold'

@@ -11,8 +11,8 @@ and returns what to do (:class:`Outputs`): at most one autopilot request at a ti
 arm, takeoff, land, with the answer of the previous one fed back) and the position setpoint.
 Phases: ``wait`` (for the link and the autopilot's position estimate) → ``guided`` →
 ``arm`` → ``takeoff`` → ``climb`` → ``hold`` → ``return`` → ``land`` → ``landed``. At the
-end time a flying UAV returns over its take-off pad on the boat before it lands, as
-ArduCopter's RTL does: the setpoint moves horizontally from the station to over the pad at
+end time, with a ``return_speed``, a flying UAV returns over its take-off pad on the boat
+before it lands, as ArduCopter's RTL does: the setpoint moves horizontally from the station to over the pad at
 the hold altitude at ``return_speed`` (so the reel, reeling in, keeps up), a function of the
 step's time alone; once the UAV is within ``return_tolerance`` of the pad horizontally the
 mission lands, descending onto the pad: the reverse of the take-off path (``return_speed``
@@ -46,7 +46,7 @@ class MissionConfig:
     climb_tolerance: float = 0.5    # m, take-off altitude reached within this
     retry_period: float = 2.0       # s, wait after a refused request before asking again
     pad: tuple = (0.0, 0.0)         # m, take-off pad on the boat, horizontal in world (the guide way: origin)
-    return_speed: float = 1.0       # m/s, horizontal speed of the setpoint returning over the pad; 0: no return
+    return_speed: float = 0.0       # m/s, horizontal speed of the setpoint returning over the pad; 0: no return
     return_tolerance: float = 0.5   # m, horizontal distance from over the pad at which the landing starts
 
     def station(self) -> np.ndarray:
