@@ -30,7 +30,8 @@ def _landing_run(returns: bool = True) -> Run:
                if returns else [(LANDING, 'land', 'aborted: reel trip: fouling', STATION)])
     fouled = t >= 70.0
     tether = {'t': t, 'clearance_deck': np.where(fouled, -1.0, 2.0), 'clearance_sea': np.where(fouled, 0.0, 3.0),
-              'fouling': fouled.astype(float), 'length': np.full_like(t, 33.3)}
+              'fouling': fouled.astype(float), 'length': np.full_like(t, 33.3),
+              'tension_reel': np.where(t >= 72.0, 90.0, 20.0), 'tension_uav': np.where(t >= 72.0, 85.0, 18.0)}
     empty = {'t': np.zeros(0)}
     return Run(Path('landing'), 'landing', poses, phases, np.column_stack([t, 0.3 * np.sin(0.7 * t)]), [],
                tether, {**empty, 'dr': np.zeros(0), 'dz': np.zeros(0)},
@@ -50,6 +51,9 @@ def test_the_hold_window_and_the_fouling_figures_end_where_the_landing_starts(re
     lines = '\n'.join(summary_lines(r))
     assert 'held 7.0-60.0 s (53.0 s, from 5 s after the arrival within 0.5 m to the landing)' in lines
     assert 'fouling until the landing at 60.0 s: 0 events' in lines
+    assert r['landing_figures']['trips'] == 2 and r['landing_figures']['fouled_time'] == pytest.approx(10.0)
+    assert ('the landing from 60.0 s: reel safety trips 2, peak tension 90.0 N at the reel and 85.0 N at the UAV, '
+            '10.0 s fouled') in lines
 
 
 def test_without_a_landing_the_whole_run_counts():

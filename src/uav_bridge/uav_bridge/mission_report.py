@@ -15,7 +15,8 @@ phase's end (:func:`uav_bridge.report.hold_interval`), where the landing starts:
 over the pad at the end of the scene (``/mission/state`` phase ``return``), or the descent
 at once on a reel trip (phase ``land``).
 The fouling figures and the reel's safety trips cover the flight up to the landing: a UAV
-landing beside the boat lays its tether on the sea.
+landing beside the boat lays its tether on the sea. The landing's own trips, peak tensions
+and fouled time are given on a line of their own.
 
 * station keeping (Sec. 6.3): peak-to-peak and standard deviation of the UAV altitude
   (``/uav/pose`` z) and the largest horizontal distance from its mean position;
@@ -154,7 +155,8 @@ def load_run(path: str | Path) -> Run:
                  for _, m in bag.decoded('/tether/nodes')] if '/tether/nodes' in bag.topics else []
         tether = _series(bag, '/tether/state', {
             'clearance_deck': lambda m: m.clearance_deck, 'clearance_sea': lambda m: m.clearance_sea,
-            'fouling': lambda m: float(m.fouling), 'length': lambda m: m.deployed_length})
+            'fouling': lambda m: float(m.fouling), 'length': lambda m: m.deployed_length,
+            'tension_reel': lambda m: m.tension_reel, 'tension_uav': lambda m: m.tension_uav})
         truth = _series(bag, '/truth/relative', {'dr': lambda m: math.hypot(m.position.x, m.position.y),
                                                  'dz': lambda m: m.position.z})
         estimate = _series(bag, '/estimate/relative', {'dz': lambda m: m.dz, 'initialized': lambda m: m.initialized})
@@ -217,6 +219,13 @@ def analyse(run: Run) -> dict:
     result['landing'] = next((t for t, phase, _, _ in run.phases if phase in ('return', 'land')), math.inf)
     flying = run.tether['t'] < result['landing']
     trips = int(run.trips['count'][run.trips['t'] < result['landing']].max(initial=0))
+    landing = ~flying
+    result['landing_figures'] = None if not landing.any() else {
+        'trips': int(run.trips['count'].max(initial=0)) - trips,
+        'tension_reel': float(run.tether['tension_reel'][landing].max()),
+        'tension_uav': float(run.tether['tension_uav'][landing].max()),
+        'fouled_time': float(np.sum((run.tether['clearance_deck'][landing] + run.guide_height <= 0.0)
+                                    | (run.tether['fouling'][landing] > 0.5)) * np.median(np.diff(run.tether['t'])))}
     tt = run.tether['t'][flying]
     deck = run.tether['clearance_deck'][flying] + run.guide_height
     fouled = (deck <= 0.0) | (run.tether['fouling'][flying] > 0.5)
@@ -328,6 +337,11 @@ def summary_lines(r: dict) -> list[str]:
                  f'{r["fouled_time"]:.1f} s fouled{first}; lowest point more than {SAG:g} m below the guide way for '
                  f'{r["sag_time"]:.1f} s; least clearance above deck {r["min_deck"]:.2f} m, above sea '
                  f'{r["min_sea"]:.2f} m; reel safety trips {r["trips"]}')
+    landing = r['landing_figures']
+    if landing is not None:
+        lines.append(f'  the landing from {r["landing"]:.1f} s: reel safety trips {landing["trips"]}, peak tension '
+                     f'{landing["tension_reel"]:.1f} N at the reel and {landing["tension_uav"]:.1f} N at the UAV, '
+                     f'{landing["fouled_time"]:.1f} s fouled')
     return lines
 
 
