@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import time
 
 import pytest
 
@@ -20,6 +19,8 @@ from tether_msgs.msg import ReelControllerDiagnostics  # noqa: E402
 from tether_msgs.msg import ReelState  # noqa: E402
 from tether_msgs.srv import Takeoff  # noqa: E402
 
+from tether_bringup.barrier import Barrier  # noqa: E402
+from tether_common.lockstep import NODES_VARIABLE  # noqa: E402
 from tether_common.qos import CLOCK  # noqa: E402
 from tether_common.qos import LATCHED  # noqa: E402
 from tether_common.qos import STATE  # noqa: E402
@@ -31,29 +32,36 @@ from test_uav_mission_node import assert_clean_exits  # noqa: E402
 from test_uav_mission_node import stop_nodes  # noqa: E402
 
 
-def publish_clock_wrench_and_reel(probe, pull: WrenchStamped, reel: ReelState) -> None:
-    """Drive ``/clock`` at wall speed in 10 ms steps and, as the plant and the reel would, a wrench, a reel state
-    and reel diagnostics stamped with each step.
+def members_env(*names: str) -> dict:
+    """The environment that makes the lockstep nodes ``names`` (and the test's probe) join together, as in a run."""
+    return {NODES_VARIABLE: ','.join(('bridge_probe',) + names)}
+
+
+def publish_clock_wrench_and_reel(probe, pull: WrenchStamped, reel: ReelState, members: list[str]) -> None:
+    """Be the time master of ``members`` (node names): advance ``/clock`` by 10 ms once each has acked the
+    current value, at most at wall speed, and, as the plant and the reel would, publish a wrench, a reel
+    state and reel diagnostics stamped with each step.
 
     The built-in UAV takes ``/tether/uav_wrench`` as a lockstep input (one step late), the
     mission ``/reel/state`` and ``/reel/diagnostics`` (no delay), so every step needs them;
-    ``pull`` is the force sent (zero until the test sets it), ``reel`` the reel state.
+    ``pull`` is the force sent (zero until the test sets it), ``reel`` the reel state. The
+    clock starts only once every member has joined, so no node misses the first commands
+    of another, whenever each process gets to start.
     """
     clock = probe.node.create_publisher(Clock, '/clock', CLOCK)
     wrench = probe.node.create_publisher(WrenchStamped, '/tether/uav_wrench', STATE)
     reel_state = probe.node.create_publisher(ReelState, '/reel/state', STATE)
     diagnostics = probe.node.create_publisher(ReelControllerDiagnostics, '/reel/diagnostics', STATE)
+    barrier = Barrier(probe.node, ['/' + name for name in members])
     reasons = ReelControllerDiagnostics()
-    start = time.monotonic()
-    sent = [0]
+    step = [0]
 
     def tick() -> None:
-        step = int((time.monotonic() - start) * 100)
-        if step <= sent[0]:
+        if not barrier.reached(step[0] * 10_000_000):
             return
-        sent[0] = step
+        step[0] += 1
         msg = Clock()
-        msg.clock.sec, msg.clock.nanosec = divmod(step * 10_000_000, 1_000_000_000)
+        msg.clock.sec, msg.clock.nanosec = divmod(step[0] * 10_000_000, 1_000_000_000)
         pull.header.stamp = reel.header.stamp = reasons.header.stamp = msg.clock
         reasons.safety_trip = 'test trip' if reel.mode == ReelState.MODE_FAULT else ''
         wrench.publish(pull)
@@ -66,14 +74,14 @@ def publish_clock_wrench_and_reel(probe, pull: WrenchStamped, reel: ReelState) -
 def test_mission_flies_the_builtin_uav_against_a_tether_pull(ros_domain):  # noqa: F811
     processes = [
         _start('uav_bridge.builtin_uav_node', 'start:=[0.0, 0.0, 0.3]', 'tether_force:=topic', 'command_rate:=10.0',
-               domain=ros_domain),
+               domain=ros_domain, env=members_env('builtin_uav', 'mission')),
         _start('uav_bridge.mission_node', 'altitude:=5.0', 'radial:=2.5', 'retry_period:=0.5', 'reel_rate:=100.0',
-               domain=ros_domain)]
+               domain=ros_domain, env=members_env('builtin_uav', 'mission'))]
     probe = Probe()
     pull = WrenchStamped()
     pull.header.frame_id = 'world'
     reel = ReelState()
-    publish_clock_wrench_and_reel(probe, pull, reel)
+    publish_clock_wrench_and_reel(probe, pull, reel, ['builtin_uav', 'mission'])
     phases = []
     probe.node.create_subscription(MissionState, '/mission/state', phases.append, LATCHED)
     try:
@@ -102,10 +110,12 @@ def test_a_uav_that_does_not_take_the_command_topic_stops_the_mission_with_one_l
     """The built-in UAV without command_rate serves only its services: the mission's first request is not answered
     on /uav/state within 1 s of sim time, and the mission ends naming the mismatch instead of waiting for ever.
     """
-    uav = _start('uav_bridge.builtin_uav_node', 'start:=[0.0, 0.0, 0.3]', 'tether_force:=topic', domain=ros_domain)
-    mission = _start('uav_bridge.mission_node', 'reel_rate:=100.0', domain=ros_domain)
+    uav = _start('uav_bridge.builtin_uav_node', 'start:=[0.0, 0.0, 0.3]', 'tether_force:=topic', domain=ros_domain,
+                 env=members_env('builtin_uav', 'mission'))
+    mission = _start('uav_bridge.mission_node', 'reel_rate:=100.0', domain=ros_domain,
+                     env=members_env('builtin_uav', 'mission'))
     probe = Probe()
-    publish_clock_wrench_and_reel(probe, WrenchStamped(), ReelState())
+    publish_clock_wrench_and_reel(probe, WrenchStamped(), ReelState(), ['builtin_uav', 'mission'])
     try:
         _, err = mission.communicate(timeout=120)
     finally:
@@ -121,9 +131,10 @@ def test_by_hand_the_services_and_the_setpoint_topic_fly_it(ros_domain):  # noqa
     """Without a mission (command_rate 0) the built-in UAV answers the bridge's services and follows /uav/setpoint,
     as a user calling them with ``ros2 service call`` and ``ros2 topic pub`` would.
     """
-    uav = _start('uav_bridge.builtin_uav_node', 'start:=[0.0, 0.0, 0.3]', domain=ros_domain)
+    uav = _start('uav_bridge.builtin_uav_node', 'start:=[0.0, 0.0, 0.3]', domain=ros_domain,
+                 env=members_env('builtin_uav'))
     probe = Probe()
-    publish_clock_wrench_and_reel(probe, WrenchStamped(), ReelState())
+    publish_clock_wrench_and_reel(probe, WrenchStamped(), ReelState(), ['builtin_uav'])
     try:
         assert probe.call(SetBool, '/uav/arm', SetBool.Request(data=True)).success
         assert probe.call(Takeoff, '/uav/takeoff', Takeoff.Request(altitude=2.0)).success

@@ -28,8 +28,8 @@ from test_uav_bridge_node import ros_domain  # noqa: E402,F401 - fixture
 from test_uav_bridge_peer import wait_until  # noqa: E402
 
 
-def _start(module, *params, domain):
-    env = dict(os.environ, ROS_DOMAIN_ID=str(domain))
+def _start(module, *params, domain, env=None):
+    env = dict(os.environ, ROS_DOMAIN_ID=str(domain), **(env or {}))
     args = [arg for param in ('use_sim_time:=true', *params) for arg in ('-p', param)]
     return subprocess.Popen([sys.executable, '-m', module, '--ros-args', *args], env=env, stdout=subprocess.PIPE,
                             stderr=subprocess.PIPE, text=True)
