@@ -4,6 +4,9 @@
   after the session; a file or directory that appeared outside the build products
   (``build``, ``install``, ``log``, the venv, caches) fails the session and is named, so a
   test that forgets ``--out tmp_path`` cannot go unnoticed.
+- ``make test`` runs the suite on two workers (pytest-xdist, a file per worker at a time);
+  a module marked ``long_run`` (a scene against SITL for minutes) is handed out first, so
+  the two workers end together instead of one finishing a long run alone.
 - A test that talks DDS reserves its own ROS domain (``ros_domain``, ``ros_context``) with
   the allocator launch_testing uses, so two copies of the suite on one machine never
   share a domain.
@@ -49,6 +52,15 @@ def pytest_sessionfinish(session: pytest.Session, exitstatus: int) -> None:
 
 
 _BEFORE = pytest.StashKey[set]()
+
+
+def pytest_configure(config: pytest.Config) -> None:
+    config.addinivalue_line('markers', 'long_run: runs for minutes; scheduled before the rest')
+
+
+def pytest_collection_modifyitems(items: list[pytest.Item]) -> None:
+    """Long runs first, the rest in collection order (every worker sorts alike)."""
+    items.sort(key=lambda item: item.get_closest_marker('long_run') is None)
 
 
 @pytest.fixture

@@ -23,6 +23,8 @@ from tethersim_testing import bag_contents
 from tethersim_testing import busy_cores
 from tethersim_testing import tethersim
 
+pytestmark = pytest.mark.long_run
+
 DURATION = 6.0
 """s of sim time: arm at 0.1 s, take off at 0.2 s, the 2 m climb, hold, the return from 3.5 s, the descent."""
 LAND_BEFORE_END = 2.5

@@ -40,7 +40,7 @@ from uav_bridge.session import SessionConfig
 from uav_bridge.sitl_json import physics_port
 
 UNAVAILABLE = sitl_unavailable()
-pytestmark = pytest.mark.skipif(UNAVAILABLE is not None, reason=UNAVAILABLE or '')
+pytestmark = [pytest.mark.skipif(UNAVAILABLE is not None, reason=UNAVAILABLE or ''), pytest.mark.long_run]
 
 START = np.array([8.0, 0.0, 0.0])           # m, world: the UAV on the ground 8 m east of the boat
 ALTITUDE = 12.0                             # m above the take-off point

@@ -25,7 +25,7 @@ from uav_bridge.mission_report import analyse
 from uav_bridge.mission_report import load_run
 
 UNAVAILABLE = sitl_unavailable()
-pytestmark = pytest.mark.skipif(UNAVAILABLE is not None, reason=UNAVAILABLE or '')
+pytestmark = [pytest.mark.skipif(UNAVAILABLE is not None, reason=UNAVAILABLE or ''), pytest.mark.long_run]
 
 HOLD = 60.0             # s of sim time (issue: holds station for 60 s with the tether attached)
 BALANCE = 0.01          # mean thrust within 1 % of weight plus the tether's pull

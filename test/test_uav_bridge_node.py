@@ -70,6 +70,7 @@ class Probe:
 
     def close(self):
         self.executor.shutdown()
+        self.thread.join(timeout=30)
         self.node.destroy_node()
 
 
@@ -147,3 +148,13 @@ def test_bad_url_exits_2_with_one_line(ros_domain):
     assert process.returncode == 2
     assert "link URL 'serial:/dev/ttyS0'" in err
     assert 'Traceback' not in err
+
+
+def test_command_topic_without_the_lockstep_exits_2_with_one_line(ros_domain):
+    """/uav/command is a lockstep input: a bridge on an autopilot's own clock refuses it in one line."""
+    process = _start_bridge('command_rate:=10.0', domain=ros_domain)
+    _, err = process.communicate(timeout=60)
+    assert process.returncode == 2 and 'Traceback' not in err
+    assert err.strip().splitlines() == ['mavlink_bridge.py: error: parameter command_rate: /uav/command is a lockstep '
+                                        'input, taken only with lockstep_input (SITL on the JSON physics); 0 for '
+                                        'services']

@@ -122,8 +122,8 @@ def test_a_uav_that_does_not_take_the_command_topic_stops_the_mission_with_one_l
         probe.close()
         stopped = stop_nodes([uav])
     assert mission.returncode == 2 and 'Traceback' not in err, err
-    assert 'error: /uav/state has not answered the arm request of /uav/command 1 within 1 s: run the built-in UAV ' \
-           'with command_rate 10' in err
+    assert 'error: /uav/state has not answered the arm request of /uav/command 1 within 1 s: run the built-in UAV, or ' \
+           'mavlink_bridge, with command_rate 10' in err
     assert_clean_exits(stopped)
 
 

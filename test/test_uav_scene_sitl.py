@@ -15,7 +15,7 @@ from tethersim_testing import tethersim
 from uav_bridge.report import read_flight
 
 UNAVAILABLE = sitl_unavailable()
-pytestmark = pytest.mark.skipif(UNAVAILABLE is not None, reason=UNAVAILABLE or '')
+pytestmark = [pytest.mark.skipif(UNAVAILABLE is not None, reason=UNAVAILABLE or ''), pytest.mark.long_run]
 
 
 def test_uav_sitl_scene_takes_off_holds_station_and_lands(tmp_path, monkeypatch):

@@ -27,6 +27,14 @@ LATCHED = QoSProfile(
     reliability=ReliabilityPolicy.RELIABLE,
     durability=DurabilityPolicy.TRANSIENT_LOCAL,
 )
+LATCHED_STATE = QoSProfile(
+    history=HistoryPolicy.KEEP_LAST,
+    depth=STATE.depth,
+    reliability=ReliabilityPolicy.RELIABLE,
+    durability=DurabilityPolicy.TRANSIENT_LOCAL,
+)
+"""A latched state (``/uav/state``) that is also a lockstep input: the last state for a late joiner,
+and a history, as :data:`STATE`'s, for a reader running behind."""
 LOCKSTEP_ACK = LATCHED
 LOCKSTEP_ACK_READER = QoSProfile(
     history=HistoryPolicy.KEEP_LAST,

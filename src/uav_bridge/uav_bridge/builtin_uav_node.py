@@ -33,8 +33,6 @@ from __future__ import annotations
 
 import sys
 
-import copy
-
 import numpy as np
 from geometry_msgs.msg import PoseStamped
 from geometry_msgs.msg import TwistStamped
@@ -52,7 +50,7 @@ from tether_msgs.srv import Takeoff
 from tether_common.node_main import ConfigurationError
 from tether_common.node_main import run_node
 from tether_common.qos import COMMAND
-from tether_common.qos import LATCHED
+from tether_common.qos import LATCHED_STATE
 from tether_common.qos import LOOP
 from tether_common.qos import SENSOR
 from tether_common.qos import STATE
@@ -67,10 +65,6 @@ from uav_bridge.builtin_uav_params import PARAMETERS
 from uav_bridge.ros_fill import fill_quaternion
 from uav_bridge.ros_fill import fill_vector
 from uav_bridge.ros_fill import pose_and_twist
-
-STATE_QOS = copy.copy(LATCHED)
-STATE_QOS.depth = STATE.depth
-"""/uav/state: latched (transient local) as the bridge's, with a history for the mission's lockstep reader."""
 
 
 class BuiltinUavNode(Node):
@@ -96,7 +90,7 @@ class BuiltinUavNode(Node):
         self.pose_pub = self.create_publisher(PoseStamped, '/uav/pose', SENSOR)
         self.twist_pub = self.create_publisher(TwistStamped, '/uav/twist', SENSOR)
         self.imu_pub = self.create_publisher(Imu, '/uav/imu', SENSOR)
-        self.state_pub = self.create_publisher(UavState, '/uav/state', STATE_QOS)
+        self.state_pub = self.create_publisher(UavState, '/uav/state', LATCHED_STATE)
         if not params['command_rate']:
             self.create_subscription(PoseStamped, '/uav/setpoint', self.setpoint_callback, COMMAND)
         self.create_service(SetMode, '/uav/set_mode', self.set_mode_callback)

@@ -30,6 +30,15 @@ bridge ticks in the graph's lockstep after the physics' message of the same tick
 waits for its next frame: each tick reads what SITL sent, runs the link's timers on sim time,
 sends the queued commands and setpoints, publishes (stamped with the tick) and only then acks,
 so SITL reads every byte at the same frame at any pace (:meth:`MavlinkSession.poll`).
+With ``command_rate`` as well, the mission commands the autopilot as it commands the built-in
+UAV (``uav_link: command``): ``/uav/command`` (tether_msgs/UavCommand) is a lockstep input one
+command period P late; the tick at t takes the command stamped t − P, starts its request once
+per sequence number (the session's mode, arm, takeoff or land) and sends its setpoint once
+per command while it holds, before the tick's poll. ``/uav/state`` then goes out at every
+multiple of 1/``state_rate`` only, stamped with the tick, with the outcome of the latest
+request that has ended (``command_sequence``, ``command_success``, ``command_message``): a
+run's commands, their answers and ArduPilot's flight are fixed by stamps, as with the
+built-in UAV.
 """
 
 from __future__ import annotations
@@ -51,6 +60,7 @@ from sensor_msgs.msg import NavSatFix
 from sensor_msgs.msg import NavSatStatus
 from std_srvs.srv import SetBool
 from std_srvs.srv import Trigger
+from tether_msgs.msg import UavCommand
 from tether_msgs.msg import UavState
 from tether_msgs.srv import SetMode
 from tether_msgs.srv import Takeoff
@@ -58,7 +68,8 @@ from tether_msgs.srv import Takeoff
 from tether_common.node_main import ConfigurationError
 from tether_common.node_main import run_node
 from tether_common.qos import COMMAND
-from tether_common.qos import LATCHED
+from tether_common.qos import LATCHED_STATE
+from tether_common.qos import LOOP
 from tether_common.qos import SENSOR
 from tether_common.ros_parameters import declare_parameters
 from tether_common.lockstep import Input
@@ -69,6 +80,7 @@ from tether_common.lockstep import stamp_ns
 from uav_bridge import telemetry
 from uav_bridge.frames import quaternion_enu_to_yaw_ned
 from uav_bridge.mavlink_bridge_params import PARAMETERS
+from uav_bridge.session import CommandResult
 from uav_bridge.session import LinkStatus
 from uav_bridge.session import MavlinkSession
 from uav_bridge.ros_fill import fill_quaternion
@@ -107,8 +119,11 @@ class MavlinkBridge(Node):
         self.twist_pub = self.create_publisher(TwistStamped, f'{telemetry}/twist', SENSOR)
         self.imu_pub = self.create_publisher(Imu, f'{telemetry}/imu', SENSOR)
         self.global_pub = self.create_publisher(NavSatFix, f'{telemetry}/global', SENSOR)
-        self.state_pub = self.create_publisher(UavState, '/uav/state', LATCHED)
+        self.state_pub = self.create_publisher(UavState, '/uav/state', LATCHED_STATE)
         stepped = bool(params['lockstep_input'])
+        if params['command_rate'] and not stepped:
+            raise ConfigurationError('parameter command_rate: /uav/command is a lockstep input, taken only with '
+                                     'lockstep_input (SITL on the JSON physics); 0 for services')
         self._tick_seconds = 0.0
         clocks = {'clock': self._tick_time, 'stamp_clock': self._tick_time} if stepped else \
             {'stamp_clock': self._graph_seconds}
@@ -133,7 +148,16 @@ class MavlinkBridge(Node):
             self.lockstep = Lockstep(self)
             period = 1.0 / params['lockstep_rate']
             self._period_ns = period_ns(period)
-            self.lockstep.every(period, self.step, [Input(params['lockstep_input'], PoseStamped, period, 0.0)])
+            inputs = [Input(params['lockstep_input'], PoseStamped, period, 0.0)]
+            if params['command_rate']:
+                command_period = 1.0 / params['command_rate']
+                inputs.append(Input('/uav/command', UavCommand, command_period, command_period, LOOP))
+            self.lockstep.every(period, self.step, inputs)
+        self.commanded = bool(params['command_rate'])
+        self.state_period_ns = period_ns(1.0 / params['state_rate'])
+        self.outcome = (0, False, '')
+        self._taken_sequence = 0
+        self._command_stamp = -1
         self.session.start(stepped=stepped)
         self.get_logger().info(f'MAVLink bridge on {config.url}; autopilot origin at {list(config.origin)} m in world')
 
@@ -155,6 +179,10 @@ class MavlinkBridge(Node):
         order), so they are sent in this tick's :meth:`MavlinkSession.poll`.
         """
         self._tick_seconds = tick.seconds
+        command = tick.inputs.get('/uav/command')
+        if command is not None and stamp_ns(command.header.stamp) != self._command_stamp:
+            self._command_stamp = stamp_ns(command.header.stamp)
+            self.carry_out(command)
         with self._due_lock:
             due = sorted(item for item in self._due if item[0] <= tick.time_ns)
             self._due = [item for item in self._due if item[0] > tick.time_ns]
@@ -165,6 +193,30 @@ class MavlinkBridge(Node):
             else:
                 inner.add_done_callback(lambda done, outer=outer: outer.set_result(done.result()))
         self.session.poll(tick.seconds)
+        if self.commanded and tick.time_ns % self.state_period_ns == 0:
+            self._publish_status(self.session.status(tick.seconds))
+
+    def carry_out(self, command: UavCommand) -> None:
+        """The command's request, once per sequence number (its outcome kept once the session ends it), and its
+        setpoint while it holds (a zero quaternion: the heading kept).
+        """
+        if command.sequence != self._taken_sequence:
+            self._taken_sequence = sequence = command.sequence
+            requests = {'set_mode': lambda: self.session.set_mode(command.mode),
+                        'arm': lambda: self.session.arm(command.arm),
+                        'takeoff': lambda: self.session.takeoff(command.altitude),
+                        'land': self.session.land}
+            if command.request not in requests:
+                self.outcome = (sequence, False, f'unknown request {command.request!r}; known: {", ".join(requests)}')
+            else:
+                requests[command.request]().add_done_callback(
+                    lambda done: self._answered(sequence, done.result()))
+        if command.hold:
+            p = command.setpoint
+            self.session.send_setpoint([p.x, p.y, p.z], None)
+
+    def _answered(self, sequence: int, result: CommandResult) -> None:
+        self.outcome = (sequence, result.success, result.message)
 
     def _at_tick(self, due_ns: int, action: Callable[[], Future | None]) -> Future:
         """Run ``action`` in the first tick at or after ``due_ns``; its future's result, forwarded."""
@@ -204,7 +256,9 @@ class MavlinkBridge(Node):
                 raise
 
     def on_status(self, status: LinkStatus) -> None:
-        """Publish /uav/state; a shutdown racing the link thread drops it."""
+        """Publish /uav/state (commanded: only at its ticks, :meth:`step`); a shutdown racing the link thread drops it."""
+        if self.commanded:
+            return
         try:
             self._publish_status(status)
         except Exception:
@@ -243,6 +297,7 @@ class MavlinkBridge(Node):
         msg.autopilot_time_offset = float(status.time_offset)
         msg.reconnects, msg.reboots, msg.bad_packets = status.reconnects, status.reboots, status.bad_packets
         msg.status_text = list(status.status_text)
+        msg.command_sequence, msg.command_success, msg.command_message = self.outcome
         self.state_pub.publish(msg)
 
     # ROS → link thread

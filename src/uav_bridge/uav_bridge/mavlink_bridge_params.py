@@ -49,5 +49,12 @@ PARAMETERS: tuple[ParamSpec, ...] = (
               'commands to a SITL on the JSON physics)', read_only=True),
     ParamSpec('lockstep_rate', 100.0, 'tick rate with lockstep_input: the rate of that topic\'s producer', 'Hz',
               low=1.0, high=1000.0, read_only=True),
+    ParamSpec('command_rate', 0.0, 'with lockstep_input: rate of the mission\'s /uav/command (its rate), a lockstep '
+              'input one period late, carried out as the built-in UAV does (a request once per sequence number, '
+              'the setpoint while it holds) and answered in /uav/state at every multiple of its period '
+              '(state_rate); 0: services and /uav/setpoint only', 'Hz', low=0.0, high=100.0, read_only=True),
+    ParamSpec('state_rate', 10.0, 'with command_rate: /uav/state messages per second of sim time, one at every '
+              'multiple of its period (the mission\'s uav_state_rate), in place of on every change', 'Hz', low=0.5,
+              high=100.0, read_only=True),
     ParamSpec('statustext_lines', 10, 'latest STATUSTEXT lines kept in /uav/state', low=1, high=100, read_only=True),
 )

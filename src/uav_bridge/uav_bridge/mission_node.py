@@ -6,7 +6,8 @@ time (lockstep ticks, :mod:`tether_common.lockstep`). It publishes its phase on
 at a time (mode, arm, takeoff, land; the answer fed to the next step) over one of two links
 (``uav_link``):
 
-* ``command`` (the built-in UAV; reproducible): every input is a lockstep input selected by
+* ``command`` (the built-in UAV, or ArduPilot SITL on the JSON physics through
+  ``mavlink_bridge`` with its ``command_rate``; reproducible): every input is a lockstep input selected by
   stamp. The step at t takes ``/uav/state`` and ``/uav/pose`` stamped ≤ t (no delay) and
   publishes ``/uav/command`` (tether_msgs/UavCommand) stamped t: the latest request with its
   sequence number, and the station as the setpoint while holding. The built-in UAV takes
@@ -16,7 +17,7 @@ at a time (mode, arm, takeoff, land; the answer fed to the next step) over one o
   mission → UAV → mission's explicit delay. A second task at the reel's control period feeds
   every ``/reel/state`` with the ``/reel/diagnostics`` of the same stamp (no delay) to the trip
   monitor, before the mission step of the same time.
-* ``services`` (an autopilot through ``mavlink_bridge``): the services ``/uav/set_mode``,
+* ``services`` (an autopilot on its own clock through ``mavlink_bridge``): the services ``/uav/set_mode``,
   ``/uav/arm``, ``/uav/takeoff``, ``/uav/land`` and the setpoint on ``/uav/setpoint``
   (geometry_msgs/PoseStamped, ``world``, zero quaternion: heading kept); ``/uav/state``,
   ``/uav/pose``, ``/reel/state`` and ``/reel/diagnostics`` are used as they arrive. The
@@ -66,10 +67,6 @@ from uav_bridge.mission import MissionConfig
 from uav_bridge.mission import MissionLogic
 from uav_bridge.mission import TripMonitor
 from uav_bridge.mission_params import PARAMETERS
-
-ANSWER_TIMEOUT_NS = 1_000_000_000
-"""uav_link command: a request unanswered this long (sim time) means the UAV does not take /uav/command."""
-
 
 def land_time(params: dict, end: float | None) -> float:
     """The sim time (s) the mission lands at: ``land_time``, or ``land_before_end`` before ``end``, the earlier.
@@ -173,6 +170,7 @@ class CommandLink:
         self.waiting = False
         self.sent_ns = 0
         self.rate = params['rate']
+        self.answer_timeout_ns = round(params['answer_timeout'] * 1e9)
         if params['reel_rate']:
             reel_period = 1.0 / params['reel_rate']
             node.lockstep.every(reel_period, self.reel_step, [
@@ -194,11 +192,12 @@ class CommandLink:
         if self.waiting and state is not None and state.command_sequence == self.command.sequence:
             self.waiting = False
             answer = (self.command.request, state.command_success, state.command_message)
-        elif self.waiting and tick.time_ns - self.sent_ns > ANSWER_TIMEOUT_NS:
+        elif self.waiting and tick.time_ns - self.sent_ns > self.answer_timeout_ns:
             raise ConfigurationError(
                 f'/uav/state has not answered the {self.command.request} request of /uav/command '
-                f'{self.command.sequence} within {ANSWER_TIMEOUT_NS / 1e9:g} s: run the built-in UAV with '
-                f'command_rate {self.rate:g} (the mission\'s rate), or an autopilot with uav_link services')
+                f'{self.command.sequence} within {self.answer_timeout_ns / 1e9:g} s: run the built-in UAV, or '
+                f'mavlink_bridge, with command_rate {self.rate:g} (the mission\'s rate), or an autopilot with '
+                'uav_link services')
         return state, _position(tick.inputs['/uav/pose']), self.waiting, answer
 
     def send(self, tick: Tick, request, setpoint) -> None:

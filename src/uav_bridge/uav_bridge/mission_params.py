@@ -32,11 +32,16 @@ PARAMETERS: tuple[ParamSpec, ...] = (
               '0: on the first tripped reel state', 's', low=0.0, high=60.0, read_only=True),
     ParamSpec('rate', 10.0, 'mission steps and setpoints per second of sim time', 'Hz', low=0.5, high=100.0,
               read_only=True),
-    ParamSpec('uav_link', 'command', 'how the UAV is flown: command (the built-in UAV: /uav/command at every step, '
+    ParamSpec('uav_link', 'command', 'how the UAV is flown: command (the built-in UAV, or SITL on the JSON physics through '
+              'mavlink_bridge with command_rate: /uav/command at every step, '
               'its answers in /uav/state; every input a lockstep input, the run reproducible) or services (an '
-              'autopilot through mavlink_bridge: services /uav/*, /uav/setpoint, inputs as they arrive; the '
+              'autopilot on its own clock through mavlink_bridge: services /uav/*, /uav/setpoint, inputs as they arrive; the '
               'autopilot runs on its own clock, the run is not reproducible)', choices=('command', 'services'),
               read_only=True),
+    ParamSpec('answer_timeout', 1.0, 'uav_link command: a request whose outcome is not in /uav/state this long '
+              'after it went out (sim time) stops the mission, as the UAV does not take /uav/command (the built-in '
+              'UAV answers at its next state; an autopilot through mavlink_bridge needs its command and arm '
+              'timeouts)', 's', low=0.1, high=3600.0, read_only=True),
     ParamSpec('uav_state_rate', 10.0, 'uav_link command: rate of /uav/state (the built-in UAV\'s state_rate), a '
               'lockstep input without delay', 'Hz', low=0.5, high=1000.0, read_only=True),
     ParamSpec('uav_pose_rate', 100.0, 'uav_link command: rate of /uav/pose (the built-in UAV\'s rate), a lockstep '
