@@ -4,17 +4,25 @@ from __future__ import annotations
 
 import signal
 import threading
+import time
+
+import numpy as np
 
 import pytest
 
 rclpy = pytest.importorskip('rclpy')
 
+from builtin_interfaces.msg import Time  # noqa: E402
+from geometry_msgs.msg import PoseStamped  # noqa: E402
+from geometry_msgs.msg import WrenchStamped  # noqa: E402
 from rosgraph_msgs.msg import Clock  # noqa: E402
+from tether_msgs.msg import TetherState  # noqa: E402
 
 from json_sitl_peer_double import SitlJsonPeerDouble  # noqa: E402
 from sitl_process import claim_instance  # noqa: E402
 from tether_common.constants import GRAVITY  # noqa: E402
 from tether_common.qos import CLOCK  # noqa: E402
+from tether_common.qos import STATE  # noqa: E402
 from test_uav_bridge_node import Probe  # noqa: E402
 from test_uav_bridge_node import ros_domain  # noqa: E402,F401 - fixture
 from test_uav_bridge_peer import wait_until  # noqa: E402
@@ -91,3 +99,51 @@ def test_sitl_advances_only_with_the_graph_clock(ros_domain):  # noqa: F811
         lock.close()
         print(err[-3000:])
     assert process.returncode == 0 and 'Traceback' not in err, err
+
+
+def test_straight_line_pulls_toward_the_reel_with_its_weight_and_its_spring_beyond_the_deployed_length(
+        ros_domain, lockstep_master):  # noqa: F811
+    """``tether_model: straight_line`` (ArduPilot's SIM_Tether, the report's baseline): the force on the UAV points
+    at the reel pose, with the line's weight mu |d| g, plus the spring on the stretch beyond the plant's deployed
+    length; the UAV rests 8 m from the reel, the deployed length goes from 7.9 m (taut) to 20 m (slack).
+    """
+    instance, lock = claim_instance()
+    process = _start('uav_bridge.json_physics_node', f'instance:={instance}', 'tether_model:=straight_line',
+                     'start:=[8.0, 0.0, 0.5]', domain=ros_domain)
+    sitl = SitlThread(physics_port(instance))
+    node = rclpy.create_node('straight_line_probe')
+    forces = []
+    node.create_subscription(WrenchStamped, '/uav/tether_force', forces.append, STATE)
+    publishers = {topic: node.create_publisher(kind, topic, STATE) for topic, kind in
+                  (('/tether/uav_wrench', WrenchStamped), ('/tether/state', TetherState),
+                   ('/platform/reel_pose', PoseStamped))}
+    master = lockstep_master(node, ['/json_physics'], [process])
+    wrench, state, reel = WrenchStamped(), TetherState(), PoseStamped()
+    reel.pose.position.z = 0.5
+    try:
+        master.wait_acked(0)
+        for step in range(1, 41):
+            state.deployed_length = 7.9 if step <= 20 else 20.0
+            wrench.header.stamp = state.header.stamp = reel.header.stamp = \
+                Time(sec=0, nanosec=step * 10_000_000)
+            for topic, msg in (('/tether/uav_wrench', wrench), ('/tether/state', state),
+                               ('/platform/reel_pose', reel)):
+                publishers[topic].publish(msg)
+            master.step_to(step * 10_000_000)
+        end = time.monotonic() + 2.0
+        while time.monotonic() < end and len(forces) < 40:
+            rclpy.spin_once(node, timeout_sec=0.01)
+    finally:
+        sitl.close()
+        process.send_signal(signal.SIGINT)
+        _, err = process.communicate(timeout=20)
+        node.destroy_node()
+        lock.close()
+    assert process.returncode == 0 and 'Traceback' not in err, err
+    by_step = {f.header.stamp.nanosec // 10_000_000: np.array([f.wrench.force.x, f.wrench.force.y,
+                                                               f.wrench.force.z]) for f in forces}
+    weight = 0.042 * 8.0 * GRAVITY                  # line_density x |d| x g
+    # the tick at 0.02 s took the deployed length of the step before (one period late): 0.1 m stretched
+    np.testing.assert_allclose(by_step[2], [-(weight + 100.0 * 0.1), 0.0, 0.0], atol=0.05)
+    # slack (the length of the step at 0.2 s, seen from 0.21 s on): the weight alone, still toward the reel
+    np.testing.assert_allclose(by_step[40], [-weight, 0.0, 0.0], rtol=0.02, atol=0.02)
