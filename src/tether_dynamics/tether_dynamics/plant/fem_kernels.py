@@ -728,7 +728,7 @@ def advance(x, v, rest, st, fp, rs, rp, g_tab, u_tab, t_a, t_b, n_sub, bs, inert
                     _split(x, v, rest, st, fp, u0)
                 else:
                     _split_quadratic(x, v, rest, st, fp, u0)
-            elif rest[0] < (MERGE if order == 1 else MERGE_QUADRATIC) * h and n_el > 3 - order:
+            elif rest[0] < (MERGE if order == 1 else MERGE_QUADRATIC) * h and n_el > 1:
                 e_before = energy(x, v, rest, n, fp, order)
                 if order == 1:
                     owed = _merge(x, v, rest, st, fp, u0, v0, feed, True)

@@ -32,7 +32,9 @@ where it can be and conservative where it cannot:
    and fed back into it over the next 0.25 s (counted meanwhile as deployed mass at the
    guide way). Joining at equal rest length instead leaves the joined element slack on a
    curved stiff tether (measured: the reel tension fell from 2.2 N to 0 at each merge of a
-   sagging 20 m, 20 kN tether) and it snaps back.
+   sagging 20 m, 20 kN tether) and it snaps back. Merges go on down to a single element
+   from the guide way to the UAV (no free node left to limit the step), so a UAV landing
+   over the guide way can be reeled in to a fraction of h.
 
 The reel element's rest length therefore stays in [h / 4, 3 h / 2] whenever there is more
 than one element, and every other element has rest length h: the element sizes stay within
