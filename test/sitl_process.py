@@ -118,3 +118,15 @@ class SitlProcess(SitlRunner):
         if self._lock_file is not None:
             self._lock_file.close()
             self._lock_file = None
+
+
+def put_on_instance(scene: dict, instance: int, workdir: Path) -> dict:
+    """A scene's SITL nodes moved onto SITL ``instance`` (its ports), SITL running in ``workdir``: the ``sitl``
+    node, the ``json_physics`` node if the scene has one and the ``mavlink_bridge``'s URL.
+    """
+    nodes = scene['nodes']
+    nodes['sitl']['parameters'].update(instance=instance, workdir=str(workdir))
+    if 'json_physics' in nodes:
+        nodes['json_physics']['parameters']['instance'] = instance
+    nodes['mavlink_bridge']['parameters']['url'] = f'tcp:127.0.0.1:{5760 + 10 * instance}'
+    return scene

@@ -18,6 +18,7 @@ import yaml
 
 from sitl_process import SitlProcess
 from sitl_process import sitl_binary
+from sitl_process import put_on_instance
 from sitl_process import sitl_unavailable
 from tether_bringup.bag_reader import read_bag
 from tether_bringup.scene import find_scene
@@ -42,10 +43,8 @@ def _scene(directory, instance: int, speedup: float) -> str:
     scene = yaml.safe_load(find_scene('outdoor_flight_ardupilot').read_text())
     scene['duration'] = DURATION
     scene['reports'] = []
-    nodes = scene['nodes']
-    nodes['sitl']['parameters'].update(instance=instance, speedup=speedup, workdir=str(directory / 'sitl'))
-    nodes['json_physics']['parameters']['instance'] = instance
-    nodes['mavlink_bridge']['parameters']['url'] = f'tcp:127.0.0.1:{5760 + 10 * instance}'
+    put_on_instance(scene, instance, directory / 'sitl')
+    scene['nodes']['sitl']['parameters']['speedup'] = speedup
     path = directory / 'scene.yaml'
     path.write_text(yaml.safe_dump(scene))
     return str(path)

@@ -18,6 +18,7 @@ import yaml
 
 from sitl_process import SitlProcess
 from sitl_process import sitl_binary
+from sitl_process import put_on_instance
 from sitl_process import sitl_unavailable
 from tethersim_testing import ROOT
 from tethersim_testing import processes_of
@@ -43,13 +44,10 @@ def test_arducopter_holds_station_on_the_plants_tether_in_the_scene(tmp_path, mo
     claim = SitlProcess(tmp_path / 'claim')          # a free SITL instance for this run
     try:
         scene = yaml.safe_load((ROOT / 'src/tether_bringup/scenes/outdoor_flight_ardupilot.yaml').read_text())
-        instance = claim.config.instance
+        put_on_instance(scene, claim.config.instance, tmp_path / 'sitl')
         scene['duration'] = DURATION
         nodes = scene['nodes']
         nodes['mission']['parameters']['altitude'] = ALTITUDE
-        nodes['sitl']['parameters'].update(instance=instance, workdir=str(tmp_path / 'sitl'))
-        nodes['json_physics']['parameters']['instance'] = instance
-        nodes['mavlink_bridge']['parameters']['url'] = f'tcp:127.0.0.1:{5760 + 10 * instance}'
         path = tmp_path / 'outdoor_flight_ardupilot.yaml'
         path.write_text(yaml.safe_dump(scene))
         monkeypatch.setenv('ARDUPILOT_SITL_BIN', str(sitl_binary()))

@@ -8,6 +8,7 @@ import yaml
 
 from sitl_process import SitlProcess
 from sitl_process import sitl_binary
+from sitl_process import put_on_instance
 from sitl_process import sitl_unavailable
 from tethersim_testing import ROOT
 from tethersim_testing import processes_of
@@ -22,9 +23,7 @@ def test_uav_sitl_scene_takes_off_holds_station_and_lands(tmp_path, monkeypatch)
     claim = SitlProcess(tmp_path / 'claim')          # a free SITL instance for this run
     try:
         scene = yaml.safe_load((ROOT / 'src/tether_bringup/scenes/uav_sitl.yaml').read_text())
-        instance = claim.config.instance
-        scene['nodes']['sitl']['parameters'].update(instance=instance, workdir=str(tmp_path / 'sitl'))
-        scene['nodes']['mavlink_bridge']['parameters']['url'] = f'tcp:127.0.0.1:{5760 + 10 * instance}'
+        put_on_instance(scene, claim.config.instance, tmp_path / 'sitl')
         path = tmp_path / 'uav_sitl.yaml'
         path.write_text(yaml.safe_dump(scene))
         monkeypatch.setenv('ARDUPILOT_SITL_BIN', str(sitl_binary()))
