@@ -36,7 +36,7 @@ run: $(STAMP_BUILD)
 	./tethersim run $(SCENE) $(ARGS)
 
 test: $(STAMP_BUILD) lint
-	./tethersim-env python -m pytest -q -n 2 --dist loadfile src test $(ARGS)
+	./tethersim-env python -m pytest -q -n 2 --dist loadfile --no-loadscope-reorder src test $(ARGS)
 
 # ruff over all Python, mypy over the plain-Python cores (pyproject.toml says which and how)
 lint: $(STAMP_VENV)

@@ -4,9 +4,11 @@
   after the session; a file or directory that appeared outside the build products
   (``build``, ``install``, ``log``, the venv, caches) fails the session and is named, so a
   test that forgets ``--out tmp_path`` cannot go unnoticed.
-- ``make test`` runs the suite on two workers (pytest-xdist, a file per worker at a time);
-  a module marked ``long_run`` (a scene against SITL for minutes) is handed out first, so
-  the two workers end together instead of one finishing a long run alone.
+- ``make test`` runs the suite on two workers (pytest-xdist, a file per worker at a time,
+  handed out in collection order: ``--no-loadscope-reorder``, since xdist would otherwise
+  hand out the files with the most tests first); a module marked ``long_run`` (a scene
+  against SITL for minutes) is collected first, so the two workers end together instead of
+  one finishing a long run alone.
 - A test that talks DDS reserves its own ROS domain (``ros_domain``, ``ros_context``) with
   the allocator launch_testing uses, so two copies of the suite on one machine never
   share a domain.
