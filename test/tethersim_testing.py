@@ -50,6 +50,35 @@ def bag_payloads(run_dir: Path) -> dict[str, list[tuple[bytes, int]]]:
     return topics
 
 
+def differing_topics(run_a: Path, run_b: Path, normalise: dict | None = None) -> list[str]:
+    """Topics of two runs' bags whose messages differ in number, order, log time or content.
+
+    Messages are compared as bytes first; a pair whose bytes differ is decoded and compared as
+    :func:`bag_contents` compares (the CDR padding the serializer leaves uninitialized can
+    differ between equal messages), after ``normalise[topic](text)`` where given. Decoding only
+    those pairs keeps the check fast on long bags.
+    """
+    bags = []
+    for run_dir in (run_a, run_b):
+        topics: dict[str, tuple[str, list[tuple[bytes, int]]]] = {}
+        with open(run_dir / 'bag' / 'bag_0.mcap', 'rb') as stream:
+            for schema, channel, message in make_reader(stream).iter_messages(log_time_order=False):
+                topics.setdefault(channel.topic, (schema.name, []))[1].append((message.data, message.log_time))
+        bags.append(topics)
+    first, second = bags
+    differing = sorted(set(first) ^ set(second))
+    for topic in sorted(set(first) & set(second)):
+        kind = message_class(first[topic][0])
+        same = (normalise or {}).get(topic, lambda text: text)
+        a, b = first[topic][1], second[topic][1]
+        if len(a) != len(b) or any(
+                ta != tb or (da != db and same(repr(deserialize_message(da, kind)))
+                             != same(repr(deserialize_message(db, kind))))
+                for (da, ta), (db, tb) in zip(a, b)):
+            differing.append(topic)
+    return differing
+
+
 def bag_contents(run_dir: Path) -> dict[str, list[tuple[str, int]]]:
     """Per topic of a run's bag, each message's full content as text, in the order received, with log times.
 
