@@ -8,6 +8,7 @@ runs (see ``sitl_process.py``).
 from __future__ import annotations
 
 import socket
+import time
 
 import pytest
 
@@ -19,13 +20,25 @@ UNAVAILABLE = sitl_unavailable()
 pytestmark = pytest.mark.skipif(UNAVAILABLE is not None, reason=UNAVAILABLE or '')
 
 
+def _connected(port: int, timeout: float = 60.0) -> socket.socket:
+    """A client on SITL's first port, once SITL listens there (it starts listening some time after its start)."""
+    deadline = time.monotonic() + timeout
+    while True:
+        try:
+            return socket.create_connection(('127.0.0.1', port), timeout=5)
+        except ConnectionRefusedError:
+            if time.monotonic() > deadline:
+                raise
+            time.sleep(0.2)
+
+
 def test_a_known_name_is_confirmed_and_an_unknown_one_named(tmp_path):
     wanted = {'WP_SPD_UP': 0.5, 'WPNAV_SPEED_UP': 50.0, 'FRAME_TYPE': 1.0}   # the second: the name before 4.7
     sitl = SitlProcess(tmp_path, speedup=10.0, parameters=tuple(wanted.items()))
     sitl.start()
     try:
         # SITL runs once a client holds its first port (the bridge's); the check uses the second
-        with socket.create_connection(('127.0.0.1', sitl.config.port), timeout=30):
+        with _connected(sitl.config.port):
             result = check_parameters(f'tcp:127.0.0.1:{sitl.config.port + 2}', wanted, patience=6,
                                       connect_timeout=60)
     finally:
