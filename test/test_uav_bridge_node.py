@@ -158,3 +158,21 @@ def test_command_topic_without_the_lockstep_exits_2_with_one_line(ros_domain):
     assert err.strip().splitlines() == ['mavlink_bridge.py: error: parameter command_rate: /uav/command is a lockstep '
                                         'input, taken only with lockstep_input (SITL on the JSON physics); 0 for '
                                         'services']
+
+
+def test_commanded_by_the_mission_the_services_refuse_at_once(ros_domain):
+    """With command_rate the mission's /uav/command flies the autopilot: a service call by hand is refused at once,
+    naming the topic, instead of waiting for a tick (the node spins single-threaded then).
+    """
+    process = _start_bridge('url:=tcp:127.0.0.1:9', 'lockstep_input:=/uav/pose', 'command_rate:=10.0',
+                            domain=ros_domain)
+    probe = Probe()
+    try:
+        answer = probe.call(SetBool, '/uav/arm', SetBool.Request(data=True), timeout=30.0)
+    finally:
+        probe.close()
+        process.send_signal(signal.SIGINT)
+        _, err = process.communicate(timeout=30)
+    assert not answer.success
+    assert answer.message == 'the mission commands this UAV on /uav/command (command_rate); the services are off'
+    assert process.returncode == 0 and 'Traceback' not in err, err

@@ -38,7 +38,9 @@ per command while it holds, before the tick's poll. ``/uav/state`` then goes out
 multiple of 1/``state_rate`` only, stamped with the tick, with the outcome of the latest
 request that has ended (``command_sequence``, ``command_success``, ``command_message``): a
 run's commands, their answers and ArduPilot's flight are fixed by stamps, as with the
-built-in UAV.
+built-in UAV. The services then refuse at once, naming ``/uav/command``, and ``/uav/setpoint``
+is not subscribed, so no callback waits for a tick and the node spins on the single-threaded
+events executor instead of the multi-threaded one.
 """
 
 from __future__ import annotations
@@ -66,6 +68,7 @@ from tether_msgs.srv import SetMode
 from tether_msgs.srv import Takeoff
 
 from tether_common.node_main import ConfigurationError
+from tether_common.node_main import make_executor
 from tether_common.node_main import run_node
 from tether_common.qos import COMMAND
 from tether_common.qos import LATCHED_STATE
@@ -133,12 +136,14 @@ class MavlinkBridge(Node):
             raise ConfigurationError(str(error)) from None
         # stepped, the session ends every command by its deadline in sim time, however slow the graph
         self.command_timeout = None if stepped else max(config.command_timeout, config.arm_timeout) + 5.0
+        self.commanded = bool(params['command_rate'])
         group = ReentrantCallbackGroup()
         self.create_service(SetMode, '/uav/set_mode', self.set_mode_callback, callback_group=group)
         self.create_service(SetBool, '/uav/arm', self.arm_callback, callback_group=group)
         self.create_service(Takeoff, '/uav/takeoff', self.takeoff_callback, callback_group=group)
         self.create_service(Trigger, '/uav/land', self.land_callback, callback_group=group)
-        self.create_subscription(PoseStamped, '/uav/setpoint', self.setpoint_callback, COMMAND)
+        if not self.commanded:
+            self.create_subscription(PoseStamped, '/uav/setpoint', self.setpoint_callback, COMMAND)
         self._warned_frames: set[str] = set()
         self.lockstep: Lockstep | None = None
         self._due: list[tuple[int, int, Callable[[], Future | None], Future]] = []
@@ -153,7 +158,6 @@ class MavlinkBridge(Node):
                 command_period = 1.0 / params['command_rate']
                 inputs.append(Input('/uav/command', UavCommand, command_period, command_period, LOOP))
             self.lockstep.every(period, self.step, inputs)
-        self.commanded = bool(params['command_rate'])
         self.state_period_ns = period_ns(1.0 / params['state_rate'])
         self.outcome = (0, False, '')
         self._taken_sequence = 0
@@ -227,8 +231,14 @@ class MavlinkBridge(Node):
 
     def _command(self, action: Callable[[], Future]) -> Future:
         """A session command: at once, or stepped in the tick after the one the request arrived in
-        (the mission's request of tick t goes out at t + one tick, as its setpoints do).
+        (the mission's request of tick t goes out at t + one tick, as its setpoints do); refused at
+        once while the mission commands on /uav/command.
         """
+        if self.commanded:
+            refused: Future = Future()
+            refused.set_result(CommandResult(False, 'the mission commands this UAV on /uav/command '
+                                                    '(command_rate); the services are off'))
+            return refused
         if self.lockstep is None:
             return action()
         return self._at_tick(self.lockstep.clock_ns + self._period_ns, action)
@@ -344,8 +354,18 @@ class MavlinkBridge(Node):
 
 
 def main(args=None):
-    """Run the bridge (a multi-threaded executor, so waiting services do not hold up the rest)."""
-    sys.exit(run_node(MavlinkBridge, args, executor=MultiThreadedExecutor))
+    """Run the bridge: on a multi-threaded executor, so that waiting services do not hold up the rest, unless
+    the mission commands it on /uav/command (then no callback waits).
+    """
+    built: list[MavlinkBridge] = []
+
+    def build() -> MavlinkBridge:
+        built.append(MavlinkBridge())
+        return built[0]
+
+    def executor():
+        return make_executor() if built[0].commanded else MultiThreadedExecutor()
+    sys.exit(run_node(build, args, executor=executor))
 
 
 if __name__ == '__main__':
