@@ -50,13 +50,14 @@ def bag_payloads(run_dir: Path) -> dict[str, list[tuple[bytes, int]]]:
     return topics
 
 
-def differing_topics(run_a: Path, run_b: Path, normalise: dict | None = None) -> list[str]:
+def differing_topics(run_a: Path, run_b: Path, normalise: dict | None = None, prefix: bool = False) -> list[str]:
     """Topics of two runs' bags whose messages differ in number, order, log time or content.
 
     Messages are compared as bytes first; a pair whose bytes differ is decoded and compared as
     :func:`bag_contents` compares (the CDR padding the serializer leaves uninitialized can
     differ between equal messages), after ``normalise[topic](text)`` where given. Decoding only
-    those pairs keeps the check fast on long bags.
+    those pairs keeps the check fast on long bags. With ``prefix`` ``run_b`` is a shorter run
+    of the same scene: each of its topics must be the start of ``run_a``'s.
     """
     bags = []
     for run_dir in (run_a, run_b):
@@ -71,6 +72,8 @@ def differing_topics(run_a: Path, run_b: Path, normalise: dict | None = None) ->
         kind = message_class(first[topic][0])
         same = (normalise or {}).get(topic, lambda text: text)
         a, b = first[topic][1], second[topic][1]
+        if prefix:
+            a = a[:len(b)]
         if len(a) != len(b) or any(
                 ta != tb or (da != db and same(repr(deserialize_message(da, kind)))
                              != same(repr(deserialize_message(db, kind))))
