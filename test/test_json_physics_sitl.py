@@ -76,10 +76,12 @@ def _fly(workdir, speedup: float) -> tuple:
 def flights(tmp_path_factory):
     """The same flight twice at once, SITL capped at two different speed-ups, each on its own instance."""
     results: dict = {}
+    # made here, not in the threads: the worker's first mktemp creates its base directory, and two at once race
+    workdirs = {speedup: tmp_path_factory.mktemp(f'speedup{speedup:g}') for speedup in SPEEDUPS}
 
     def fly(speedup: float) -> None:
         try:
-            results[speedup] = _fly(tmp_path_factory.mktemp(f'speedup{speedup:g}'), speedup)
+            results[speedup] = _fly(workdirs[speedup], speedup)
         except BaseException as error:     # noqa: BLE001 - raised in the test's thread below
             results[speedup] = error
 
