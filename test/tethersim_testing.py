@@ -41,13 +41,18 @@ def processes_of(run_dir: Path) -> list[psutil.Process]:
     return found
 
 
+def _bag_messages(run_dir: Path) -> dict[str, tuple[str, list[tuple[bytes, int]]]]:
+    """Per topic of a run's bag, its schema name and the serialized messages in the order received, with log times."""
+    topics: dict[str, tuple[str, list[tuple[bytes, int]]]] = {}
+    with open(run_dir / 'bag' / 'bag_0.mcap', 'rb') as stream:
+        for schema, channel, message in make_reader(stream).iter_messages(log_time_order=False):
+            topics.setdefault(channel.topic, (schema.name, []))[1].append((message.data, message.log_time))
+    return topics
+
+
 def bag_payloads(run_dir: Path) -> dict[str, list[tuple[bytes, int]]]:
     """Per topic of a run's bag, the serialized messages in the order the recorder received them, with log times."""
-    topics: dict[str, list[tuple[bytes, int]]] = {}
-    with open(run_dir / 'bag' / 'bag_0.mcap', 'rb') as stream:
-        for _, channel, message in make_reader(stream).iter_messages(log_time_order=False):
-            topics.setdefault(channel.topic, []).append((message.data, message.log_time))
-    return topics
+    return {topic: messages for topic, (_, messages) in _bag_messages(run_dir).items()}
 
 
 def differing_topics(run_a: Path, run_b: Path, normalise: dict | None = None, prefix: bool = False) -> list[str]:
@@ -59,14 +64,7 @@ def differing_topics(run_a: Path, run_b: Path, normalise: dict | None = None, pr
     those pairs keeps the check fast on long bags. With ``prefix`` ``run_b`` is a shorter run
     of the same scene: each of its topics must be the start of ``run_a``'s.
     """
-    bags = []
-    for run_dir in (run_a, run_b):
-        topics: dict[str, tuple[str, list[tuple[bytes, int]]]] = {}
-        with open(run_dir / 'bag' / 'bag_0.mcap', 'rb') as stream:
-            for schema, channel, message in make_reader(stream).iter_messages(log_time_order=False):
-                topics.setdefault(channel.topic, (schema.name, []))[1].append((message.data, message.log_time))
-        bags.append(topics)
-    first, second = bags
+    first, second = _bag_messages(run_a), _bag_messages(run_b)
     differing = sorted(set(first) ^ set(second))
     for topic in sorted(set(first) & set(second)):
         kind = message_class(first[topic][0])

@@ -77,7 +77,7 @@ def check_parameters(url: str, wanted: dict[str, float], patience: int = 10, sto
             if msg is None:
                 continue
             if msg.get_type() == 'PARAM_VALUE':
-                name = msg.param_id.rstrip('\x00') if isinstance(msg.param_id, str) else msg.param_id
+                name = msg.param_id.rstrip('\x00')
                 if name in pending:
                     wanted_value = pending.pop(name)
                     if _same(wanted_value, msg.param_value):
