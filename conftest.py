@@ -88,24 +88,53 @@ class LockstepMaster:
     """A test probe as the run's time master: ``/clock`` advances only once every member node
     has acked the last step (the bringup's :class:`~tether_bringup.barrier.Barrier`), so what
     the nodes publish does not depend on how fast they run.
+
+    Start the member processes with :meth:`environment`, so each joins only once every member
+    and the probe are in the graph, as in a run. The first step goes out only once the probe's
+    own publishers have matched every subscription of their topics (``/clock``: one per
+    member): a node's subscription matching the probe's publisher does not mean the probe's
+    publisher has matched it, and a message published before that is lost to the node.
     """
 
     def __init__(self, node, members: list[str], processes) -> None:
         from rosgraph_msgs.msg import Clock
         from tether_bringup.barrier import Barrier
-        self._node, self._processes, self._message = node, processes, Clock
+        self._node, self._processes, self._message, self._members = node, processes, Clock, members
         self._clock = node.create_publisher(Clock, '/clock', 10)
         self._barrier = Barrier(node, members)
 
-    def wait_acked(self, time_ns: int) -> None:
-        """Spin until every member has acked ``time_ns`` (0: joined); a guard against a hang, not a speed limit."""
+    @staticmethod
+    def environment(probe: str, members: list[str]) -> dict[str, str]:
+        """The variable to add to member processes' environment: the run's node names (``TETHERSIM_NODES``)."""
+        from tether_common.lockstep import NODES_VARIABLE
+        return {NODES_VARIABLE: ','.join([probe, *(name.lstrip('/') for name in members)])}
+
+    def _matched(self) -> bool:
+        node = self._node
+        return self._clock.get_subscription_count() >= len(self._members) and all(
+            publisher.get_subscription_count() >= node.count_subscribers(publisher.topic_name)
+            for publisher in node.publishers)
+
+    def _wait(self, done, what) -> None:
         import rclpy
         deadline = time.monotonic() + 120.0
-        while not self._barrier.reached(time_ns):
-            assert time.monotonic() < deadline, f'no ack of {time_ns} ns within 120 s: {self._barrier.behind(time_ns)}'
+        while not done():
+            if time.monotonic() > deadline:
+                for p in self._processes:
+                    p.kill()
+                logs = [''.join(part or '' for part in p.communicate()) for p in self._processes]
+                raise AssertionError(f'{what()} within 120 s; the nodes printed: {logs}')
             ended = [p.args for p in self._processes if p.poll() is not None]
             assert not ended, f'node process(es) ended early: {ended}'
             rclpy.spin_once(self._node, timeout_sec=0.01)
+
+    def wait_acked(self, time_ns: int) -> None:
+        """Spin until every member has acked ``time_ns`` (0: joined, and the probe's publishers matched);
+        a guard against a hang, not a speed limit.
+        """
+        self._wait(lambda: self._barrier.reached(time_ns) and (time_ns > 0 or self._matched()),
+                   lambda: f'no ack of {time_ns} ns from {self._barrier.behind(time_ns)}' if self._barrier.behind(
+                       time_ns) else 'the probe\'s publishers did not match every subscription')
 
     def step_to(self, time_ns: int) -> None:
         """Publish ``/clock`` at ``time_ns`` and wait until every member has run up to it."""

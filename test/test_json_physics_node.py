@@ -109,7 +109,8 @@ def test_straight_line_pulls_toward_the_reel_with_its_weight_and_its_spring_beyo
     """
     instance, lock = claim_instance()
     process = _start('uav_bridge.json_physics_node', f'instance:={instance}', 'tether_model:=straight_line',
-                     'start:=[8.0, 0.0, 0.5]', domain=ros_domain)
+                     'start:=[8.0, 0.0, 0.5]', domain=ros_domain,
+                     env=lockstep_master.environment('straight_line_probe', ['/json_physics']))
     sitl = SitlThread(physics_port(instance))
     node = rclpy.create_node('straight_line_probe')
     forces = []

@@ -46,7 +46,8 @@ def publish_clock_wrench_and_reel(probe, pull: WrenchStamped, reel: ReelState, m
     mission ``/reel/state`` and ``/reel/diagnostics`` (no delay), so every step needs them;
     ``pull`` is the force sent (zero until the test sets it), ``reel`` the reel state. The
     clock starts only once every member has joined, so no node misses the first commands
-    of another, whenever each process gets to start.
+    of another, whenever each process gets to start, and only once the probe's publishers have
+    matched every subscription of their topics.
     """
     clock = probe.node.create_publisher(Clock, '/clock', CLOCK)
     wrench = probe.node.create_publisher(WrenchStamped, '/tether/uav_wrench', STATE)
@@ -56,8 +57,16 @@ def publish_clock_wrench_and_reel(probe, pull: WrenchStamped, reel: ReelState, m
     reasons = ReelControllerDiagnostics()
     step = [0]
 
+    def matched() -> bool:
+        """The probe's publishers have matched every subscription of their topics (a node's subscription
+        matching them does not mean they have matched it; a message published before is lost to it).
+        """
+        return clock.get_subscription_count() >= len(members) and all(
+            publisher.get_subscription_count() >= probe.node.count_subscribers(publisher.topic_name)
+            for publisher in (wrench, reel_state, diagnostics))
+
     def tick() -> None:
-        if not barrier.reached(step[0] * 10_000_000):
+        if not barrier.reached(step[0] * 10_000_000) or (step[0] == 0 and not matched()):
             return
         step[0] += 1
         msg = Clock()

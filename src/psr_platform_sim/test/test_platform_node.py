@@ -26,8 +26,8 @@ from tether_common.qos import SENSOR  # noqa: E402
 from tether_common.qos import STATE  # noqa: E402
 
 
-def _start_node(tmp_path, *extra):
-    env = dict(os.environ)
+def _start_node(tmp_path, *extra, env=None):
+    env = {**os.environ, **(env or {})}
     cmd = [sys.executable, '-m', 'psr_platform_sim.platform_node', '--ros-args',
            '-p', 'use_sim_time:=true', '-p', f'cache_dir:={tmp_path}', '-p', 'table_steps:=120',
            '-p', 'profile_duration:=20.0', *extra]
@@ -35,7 +35,8 @@ def _start_node(tmp_path, *extra):
 
 
 def test_node_publishes_on_sim_time(tmp_path, ros_domain, lockstep_master):
-    process = _start_node(tmp_path, '-p', 'profile:=hpr3', '-p', 'seed:=3')
+    process = _start_node(tmp_path, '-p', 'profile:=hpr3', '-p', 'seed:=3',
+                          env=lockstep_master.environment('probe', ['/platform']))
     rclpy.init()
     node = rclpy.create_node('probe')
     got = {'state': [], 'pose': [], 'twist': [], 'imu': []}

@@ -6,6 +6,7 @@ step, as the bringup does, so what the nodes publish does not depend on how fast
 
 from __future__ import annotations
 
+import os
 import signal
 import subprocess
 import sys
@@ -32,8 +33,10 @@ def test_sensors_and_estimator_track_the_platform(tmp_path, ros_domain, lockstep
         ['relpos_estimator.sensors_node', '-p', 'truth:=surrogate', '-p', 'seed:=4'],
         ['relpos_estimator.estimator_node'],
     ]
+    members = ['/platform', '/sensors', '/estimator']
+    env = {**os.environ, **lockstep_master.environment('probe', members)}
     processes = [subprocess.Popen([sys.executable, '-m', c[0], *common, *c[1:]], stdout=subprocess.PIPE,
-                                  stderr=subprocess.STDOUT, text=True) for c in commands]
+                                  stderr=subprocess.STDOUT, text=True, env=env) for c in commands]
     rclpy.init()
     node = rclpy.create_node('probe')
     got = {'imu': [], 'fix': [], 'estimate': [], 'truth': []}
@@ -41,10 +44,10 @@ def test_sensors_and_estimator_track_the_platform(tmp_path, ros_domain, lockstep
     node.create_subscription(DgpsFix, '/dgps/fix', got['fix'].append, STATE_INPUT)
     node.create_subscription(RelativeEstimate, '/estimate/relative', got['estimate'].append, STATE_INPUT)
     node.create_subscription(RelativePosition, '/truth/relative', got['truth'].append, STATE_INPUT)
-    master = lockstep_master(node, ['/platform', '/sensors', '/estimator'], processes)
+    master = lockstep_master(node, members, processes)
     try:
         sim_ns = 0
-        master.wait_acked(0)  # every node joined
+        master.wait_acked(0)  # every node joined, the probe's publishers matched
         while sim_ns < 8_000_000_000:  # /clock advances only once every node has acked it, as in a run
             sim_ns += 10_000_000
             master.step_to(sim_ns)
