@@ -70,7 +70,8 @@ from tether_common.ros_parameters import declare_parameters
 
 INPUT_DEPTH = 1000
 """Subscription history of the unpaced inputs (fixes) and of test probes: nothing is lost while a consumer lags."""
-STATE_INPUT = QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=INPUT_DEPTH, reliability=ReliabilityPolicy.RELIABLE)
+STATE_INPUT = QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=INPUT_DEPTH, reliability=ReliabilityPolicy.RELIABLE,
+                         durability=STATE.durability)
 
 
 def to_stamp(seconds: float) -> TimeMsg:

@@ -7,6 +7,7 @@ Both publish ``/clock`` from the bringup process and advance one tick per :meth:
 from __future__ import annotations
 
 from rclpy.node import Node
+from rclpy.qos import DurabilityPolicy
 from rosgraph_msgs.msg import Clock
 
 from tether_bringup.bag_reader import BagMessage
@@ -72,7 +73,8 @@ class PacedClock:
 class BagPlayback:
     """Republish a bag's serialized messages with /clock taken from the bag's log times.
 
-    Messages go out with the QoS their publishers offered when recorded. /clock ticks every
+    Messages go out with the reliability their publishers offered when recorded, transient local
+    (:mod:`tether_common.qos`: no subscription misses the first messages, whatever its durability). /clock ticks every
     ``step`` seconds of bag time and at each message's log time; a recorded /clock topic is
     not republished (the ticks replace it), as ``ros2 bag play --clock`` does.
     """
@@ -95,7 +97,9 @@ class BagPlayback:
         """Create /clock and one publisher per replayed topic on the bringup's node."""
         self._clock_publisher = node.create_publisher(Clock, '/clock', CLOCK_QOS)
         for topic, (type_name, qos) in self._topics.items():
-            self._publishers[topic] = node.create_publisher(message_class(type_name), topic, qos_profile(qos, depth=100))
+            profile = qos_profile(qos, depth=100)
+            profile.durability = DurabilityPolicy.TRANSIENT_LOCAL  # matches every subscription, and none loses the first
+            self._publishers[topic] = node.create_publisher(message_class(type_name), topic, profile)
 
     @property
     def clock_publisher(self):

@@ -50,7 +50,6 @@ from tether_msgs.srv import Takeoff
 from tether_common.node_main import ConfigurationError
 from tether_common.node_main import run_node
 from tether_common.qos import COMMAND
-from tether_common.qos import LATCHED_STATE
 from tether_common.qos import LOOP
 from tether_common.qos import SENSOR
 from tether_common.qos import STATE
@@ -90,7 +89,7 @@ class BuiltinUavNode(Node):
         self.pose_pub = self.create_publisher(PoseStamped, '/uav/pose', SENSOR)
         self.twist_pub = self.create_publisher(TwistStamped, '/uav/twist', SENSOR)
         self.imu_pub = self.create_publisher(Imu, '/uav/imu', SENSOR)
-        self.state_pub = self.create_publisher(UavState, '/uav/state', LATCHED_STATE)
+        self.state_pub = self.create_publisher(UavState, '/uav/state', STATE)
         if not params['command_rate']:
             self.create_subscription(PoseStamped, '/uav/setpoint', self.setpoint_callback, COMMAND)
         self.create_service(SetMode, '/uav/set_mode', self.set_mode_callback)

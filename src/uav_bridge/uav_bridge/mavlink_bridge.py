@@ -71,9 +71,9 @@ from tether_common.node_main import ConfigurationError
 from tether_common.node_main import make_executor
 from tether_common.node_main import run_node
 from tether_common.qos import COMMAND
-from tether_common.qos import LATCHED_STATE
 from tether_common.qos import LOOP
 from tether_common.qos import SENSOR
+from tether_common.qos import STATE
 from tether_common.ros_parameters import declare_parameters
 from tether_common.lockstep import Input
 from tether_common.lockstep import Lockstep
@@ -122,7 +122,7 @@ class MavlinkBridge(Node):
         self.twist_pub = self.create_publisher(TwistStamped, f'{telemetry}/twist', SENSOR)
         self.imu_pub = self.create_publisher(Imu, f'{telemetry}/imu', SENSOR)
         self.global_pub = self.create_publisher(NavSatFix, f'{telemetry}/global', SENSOR)
-        self.state_pub = self.create_publisher(UavState, '/uav/state', LATCHED_STATE)
+        self.state_pub = self.create_publisher(UavState, '/uav/state', STATE)
         stepped = bool(params['lockstep_input'])
         if params['command_rate'] and not stepped:
             raise ConfigurationError('parameter command_rate: /uav/command is a lockstep input, taken only with '
