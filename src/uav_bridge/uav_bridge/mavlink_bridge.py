@@ -130,13 +130,14 @@ class MavlinkBridge(Node):
         self._tick_seconds = 0.0
         clocks = {'clock': self._tick_time, 'stamp_clock': self._tick_time} if stepped else \
             {'stamp_clock': self._graph_seconds}
+        self.commanded = bool(params['command_rate'])
         try:
-            self.session = MavlinkSession(config, self.on_sample, self.on_status, self.on_log, **clocks)
+            self.session = MavlinkSession(config, self.on_sample, None if self.commanded else self.on_status,
+                                          self.on_log, **clocks)
         except ValueError as error:
             raise ConfigurationError(str(error)) from None
         # stepped, the session ends every command by its deadline in sim time, however slow the graph
         self.command_timeout = None if stepped else max(config.command_timeout, config.arm_timeout) + 5.0
-        self.commanded = bool(params['command_rate'])
         group = ReentrantCallbackGroup()
         self.create_service(SetMode, '/uav/set_mode', self.set_mode_callback, callback_group=group)
         self.create_service(SetBool, '/uav/arm', self.arm_callback, callback_group=group)
@@ -266,9 +267,9 @@ class MavlinkBridge(Node):
                 raise
 
     def on_status(self, status: LinkStatus) -> None:
-        """Publish /uav/state (commanded: only at its ticks, :meth:`step`); a shutdown racing the link thread drops it."""
-        if self.commanded:
-            return
+        """Publish /uav/state on a change (commanded, the session pushes none: :meth:`step` publishes it at its
+        ticks); a shutdown racing the link thread drops it.
+        """
         try:
             self._publish_status(status)
         except Exception:

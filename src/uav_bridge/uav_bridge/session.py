@@ -12,8 +12,8 @@ by I/O. It
   intervals when it restarts, and sends LOCAL_POSITION_NED only once its EKF uses GPS);
 * tracks the autopilot (:class:`uav_bridge.autopilot_state.AutopilotState`) and hands
   converted samples (:mod:`uav_bridge.telemetry`) with the caller's clock's stamp to
-  ``on_sample``, and a :class:`LinkStatus` to ``on_status`` on every change and every
-  ``status_period``;
+  ``on_sample``, and a :class:`LinkStatus` to ``on_status`` (if given) on every change and
+  every ``status_period`` (:meth:`MavlinkSession.status` builds one on demand);
 * runs commands (mode, arm, disarm, takeoff, land) submitted from other threads, each
   answering a :class:`concurrent.futures.Future` with :class:`CommandResult`: arming is
   retried with back-off while the autopilot refuses, the STATUSTEXT reasons collected;
@@ -158,7 +158,7 @@ class MavlinkSession:
 
     def __init__(self, config: SessionConfig,
                  on_sample: Callable[[object, float], None] = lambda sample, stamp: None,
-                 on_status: Callable[[LinkStatus], None] = lambda status: None,
+                 on_status: Callable[[LinkStatus], None] | None = None,
                  log: Callable[[str, str], None] = lambda level, text: None,
                  clock: Callable[[], float] = time.monotonic,
                  stamp_clock: Callable[[], float] = time.monotonic) -> None:
@@ -564,6 +564,8 @@ class MavlinkSession:
         return f'{what}; autopilot said: {self._reasons(command)}'
 
     def _publish_status(self, now: float) -> None:
+        if self.on_status is None:  # nobody takes pushed statuses (a stepped consumer asks for one at its ticks)
+            return
         status = self.status(now)
         key = status.key()
         if key == self._last_status_key and now < self._next_status:
