@@ -36,13 +36,14 @@ MISSION_PERIOD_NS = 100_000_000
 
 
 def short_flight(directory) -> str:
-    """``outdoor_flight`` for ``DURATION`` s, the UAV at rest on a pad 28 m up, landing before the end, no report."""
+    """``outdoor_flight`` for ``DURATION`` s, the UAV at rest on level ground 28 m up, returning at the hold
+    altitude and landing before the end, no report."""
     scene = yaml.safe_load(find_scene('outdoor_flight').read_text())
     scene['duration'] = DURATION
     scene['reports'] = []
-    scene['nodes']['uav']['parameters'].update(start=[15.0, 0.0, 28.0], start_height=0.0)
+    scene['nodes']['uav']['parameters'].update(start=[15.0, 0.0, 28.0], start_height=0.0, ground='level')
     scene['nodes']['mission']['parameters'].update(land_before_end=LAND_BEFORE_END, pad=PAD,
-                                                   return_speed=RETURN_SPEED)
+                                                   return_speed=RETURN_SPEED, return_height=0.0)
     path = directory / 'short_flight.yaml'
     path.write_text(yaml.safe_dump(scene))
     return str(path)

@@ -60,3 +60,43 @@ def test_a_start_height_starts_hovering_armed_in_guided():
     assert uav.takeoff(2.0)[0]                                    # the mission's take-off climbs from there
     state = _run(uav, 20.0, 40.0, pull)
     np.testing.assert_allclose(state.position, [15.0, 0.0, 30.0], atol=0.05)
+
+
+def test_land_on_a_heaving_pad_touches_down_and_rides_with_it():
+    """The ground is the pad on the boat: LAND descends onto it wherever it heaves, the UAV disarms on
+    touching it and then moves with it (its velocity the pad's), where on the pad it touched down."""
+    def pad(t):
+        return np.array([0.75, 0.1 * np.sin(0.5 * t), 1.5 + 0.9 * np.sin(0.8 * t)])
+
+    def run(t0, t1):
+        states = []
+        for k in range(int(round((t1 - t0) * 100.0)) + 1):
+            t = t0 + k / 100.0
+            states.append((t, uav.step(t, np.zeros(3), pad(t))))
+        return states
+
+    uav = BuiltinUav(BuiltinUavConfig(start=(0.75, 0.0, 3.5), start_height=1.0))
+    run(0.0, 10.0)
+    assert uav.land()[0]
+    states = run(10.0, 30.0)
+    landed = next(t for t, s in states if not s.armed)
+    assert 12.0 < landed < 22.0                                   # 4.5 m above a pad heaving 0.9 m, at 0.5 m/s
+    flying = [(t, s) for t, s in states if s.armed]
+    assert all(s.position[2] >= pad(t)[2] - 1e-9 for t, s in flying)   # never below the pad
+    riding = [(t, s) for t, s in states if t > landed + 0.1]
+    offset = riding[0][1].position - pad(riding[0][0])
+    assert abs(offset[2]) < 1e-12 and np.hypot(*offset[:2]) < 0.1     # on the pad, near where it was over it
+    for t, s in riding:
+        np.testing.assert_allclose(s.position, pad(t) + offset, atol=1e-12)
+        np.testing.assert_allclose(s.velocity, (pad(t) - pad(t - 0.01)) / 0.01, atol=1e-12)
+    assert uav.set_mode('GUIDED')[0] and uav.arm(True)[0] and uav.takeoff(2.0)[0]   # and takes off again
+    state = run(30.0, 45.0)[-1][1]
+    assert state.armed and state.position[2] > pad(45.0)[2] + 1.0
+
+
+def test_a_landed_start_on_a_pad_rests_on_it():
+    uav = BuiltinUav(BuiltinUavConfig(start=(0.0, 0.0, 0.0)))
+    for k in range(5):
+        state = uav.step(0.01 * k, np.zeros(3), np.array([1.0, 0.0, 2.0 + 0.1 * k]))
+        np.testing.assert_allclose(state.position, [1.0, 0.0, 2.0 + 0.1 * k])
+    assert not state.armed

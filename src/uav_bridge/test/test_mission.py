@@ -134,6 +134,34 @@ def test_the_end_returns_over_the_pad_at_the_hold_altitude_at_the_return_speed_t
     assert logic.outcome == 'end of the mission' and not logic.aborted
 
 
+def test_a_return_height_brings_the_uav_down_the_line_toward_the_pad_then_lands():
+    """With ``return_height`` the return goes in a straight line from the station to over the pad at that
+    height, at ``return_speed`` along the line: Δr/Δz stays away from 0 all the way down (0.5 to 0.21 here)."""
+    logic = MissionLogic(MissionConfig(altitude=30.0, radial=15.0, land_time=100.0, pad=(0.75, 0.0),
+                                       return_speed=0.5, return_height=3.5, return_tolerance=0.5))
+    logic.phase = 'hold'
+    path = []
+    for k in range(0, 1000):
+        t = 100.0 + 0.1 * k
+        position = path[-1] if path else np.array([15.0, 0.0, 30.0])      # the UAV one step behind
+        out = logic.step(t, Inputs(**FLYING, position=position))
+        if out.phase != 'return':
+            break
+        path.append(out.setpoint)
+    assert out.phase == 'land' and out.request == ('land', None)
+    path = np.array(path)
+    end = np.array([0.75, 0.0, 3.5])
+    np.testing.assert_allclose(path[0], [15.0, 0.0, 30.0])
+    assert np.linalg.norm(path[-1] - end) <= 0.5 * 0.1 + 1e-9           # lands once the setpoint is there
+    direction = (end - path[0]) / np.linalg.norm(end - path[0])
+    off_line = (path - path[0]) - np.outer((path - path[0]) @ direction, direction)
+    np.testing.assert_allclose(off_line, 0.0, atol=1e-12)                # a straight line
+    steps = np.linalg.norm(np.diff(path, axis=0), axis=1)
+    assert steps.max() <= 0.5 * 0.1 + 1e-9 and steps[:-1].min() >= 0.5 * 0.1 - 1e-9   # at 0.5 m/s along it
+    ratio = np.hypot(path[:, 0] - 0.0, path[:, 1]) / path[:, 2]         # from the guide way at the origin
+    assert ratio.min() >= 0.75 / 3.5 and ratio.max() == pytest.approx(0.5)
+
+
 def test_the_return_waits_for_the_uav_over_the_pad_and_a_reel_trip_lands_at_once():
     logic = MissionLogic(MissionConfig(altitude=5.0, radial=2.5, land_time=10.0, pad=(1.0, -1.0),
                                        return_speed=1.0, return_tolerance=0.5))

@@ -6,9 +6,11 @@ attachment point), the same function the plant integrates; the controller is
 :class:`uav_bridge.multirotor_control.StationController`. :class:`BuiltinUav` answers the
 commands the MAVLink bridge forwards to ArduPilot, with ArduCopter's meaning: GUIDED and
 LAND modes, arm, take off to an altitude above the take-off point, position targets in
-GUIDED, LAND descending at ``land_speed`` and disarming on the ground. While disarmed the
-body rests on the ground (the height of ``start``): at ``start`` before the first flight, where
-it touched down after a landing. With a
+GUIDED, LAND descending at ``land_speed`` and disarming on the ground. The ground is level at
+the height of ``start``, or, stepped with a ``pad``, a landing pad on the boat: where the CoM
+rests on it, moving with the deck. While disarmed the body rests on the ground: at ``start``
+before the first flight (on the pad, with one), where it touched down after a landing, riding
+with the pad on one. With a
 ``start_height`` it starts armed in GUIDED, hovering that high above ``start``, as a
 tethered run starts with the tether already deployed to the UAV in the air. Its estimate
 is ready at once (it has no EKF start-up).
@@ -68,6 +70,9 @@ class BuiltinUav:
         self.rho = np.asarray(config.attach_offset, dtype=float)
         self.start = np.asarray(config.start, dtype=float)
         self.ground = self.start.copy()
+        self._pad: np.ndarray | None = None       # m, world: the pad's rest point at the last step
+        self._on_pad = np.zeros(3)                # m, world: where the UAV rests relative to the pad's rest point
+        self._ground_z = float(self.start[2])
         self.body = np.zeros(bodies.BS_SIZE)
         self.armed = False
         self.mode = 'GUIDED'
@@ -83,9 +88,14 @@ class BuiltinUav:
             self.reference = self.body[bodies.BS_POS:bodies.BS_POS + 3].copy()
             self.armed = True
 
-    def _rest(self) -> None:
+    def _rest(self, pad: np.ndarray | None = None, pad_velocity: np.ndarray | None = None) -> None:
+        """At rest on the ground: where it touched down, or on the pad (``pad``: its rest point, world),
+        moving with it (``pad_velocity``, m/s).
+        """
         self.body[:] = 0.0
-        self.body[bodies.BS_POS:bodies.BS_POS + 3] = self.ground
+        self.body[bodies.BS_POS:bodies.BS_POS + 3] = self.ground if pad is None else pad + self._on_pad
+        if pad_velocity is not None:
+            self.body[bodies.BS_VEL:bodies.BS_VEL + 3] = pad_velocity
         self.body[bodies.BS_QUAT:bodies.BS_QUAT + 4] = (0.0, 0.0, math.sin(self.yaw / 2), math.cos(self.yaw / 2))
 
     # commands, as the bridge's services carry them
@@ -144,14 +154,24 @@ class BuiltinUav:
 
     # stepping
 
-    def step(self, t: float, tether_force) -> BuiltinUavState:
-        """Advance to ``t`` (s) under the tether's force on the UAV (N, world) held over the step."""
+    def step(self, t: float, tether_force, pad=None) -> BuiltinUavState:
+        """Advance to ``t`` (s) under the tether's force on the UAV (N, world) held over the step.
+
+        ``pad``: where the CoM rests on the boat's landing pad at ``t`` (m, world), the ground
+        under the UAV, moving linearly from its last value over the step; None: level ground.
+        """
         force = np.asarray(tether_force, dtype=float)
+        pad = None if pad is None else np.asarray(pad, dtype=float)
+        before = self._pad if self._pad is not None else pad
         if self._t is not None and t > self._t:
             n_sub = max(1, math.ceil((t - self._t) / self.config.dt - 1e-9))
             dt = (t - self._t) / n_sub
-            for _ in range(n_sub):
-                self._advance(dt, force)
+            velocity = None if pad is None else (pad - before) / (t - self._t)
+            for i in range(n_sub):
+                self._advance(dt, force, None if pad is None else before + (pad - before) * ((i + 1) / n_sub), velocity)
+        elif pad is not None and not self.armed:
+            self._rest(pad)
+        self._pad = pad
         self._t = t
         if self.armed:
             state = self._body_state()
@@ -162,25 +182,30 @@ class BuiltinUav:
         return BuiltinUavState(self.armed, self.mode, b[0:3].copy(), b[3:6].copy(), b[13:16].copy(), b[6:10].copy(),
                                b[10:13].copy())
 
-    def _advance(self, dt: float, force: np.ndarray) -> None:
+    def _advance(self, dt: float, force: np.ndarray, pad: np.ndarray | None, pad_velocity: np.ndarray | None) -> None:
+        self._ground_z = float(self.start[2] if pad is None else pad[2])
         if not self.armed:
-            self._rest()
+            self._rest(pad, pad_velocity)
             return
         if self.mode == 'LAND':
-            self.reference[2] = max(self.start[2] - 0.2, self.reference[2] - self.config.land_speed * dt)
+            self.reference[2] = max(self._ground_z - 0.2, self.reference[2] - self.config.land_speed * dt)
             if self._on_ground():
                 self.armed = False
-                self.ground = np.array([self.body[bodies.BS_POS], self.body[bodies.BS_POS + 1], self.start[2]])
-                self._rest()
+                position = self.body[bodies.BS_POS:bodies.BS_POS + 3]
+                if pad is None:
+                    self.ground = np.array([position[0], position[1], self.start[2]])
+                else:
+                    self._on_pad = np.array([position[0] - pad[0], position[1] - pad[1], 0.0])
+                self._rest(pad, pad_velocity)
                 return
         bodies.body_step(self.body, self.config.mass, self.inertia, self.inertia_inv, self.rho, self.thrust,
                          self.torque, force, self.config.gravity, dt)
-        if self.body[bodies.BS_POS + 2] < self.start[2]:          # the ground stops the body
-            self.body[bodies.BS_POS + 2] = self.start[2]
+        if self.body[bodies.BS_POS + 2] < self._ground_z:          # the ground stops the body
+            self.body[bodies.BS_POS + 2] = self._ground_z
             self.body[bodies.BS_VEL + 2] = max(0.0, self.body[bodies.BS_VEL + 2])
 
     def _on_ground(self) -> bool:
-        return self.body[bodies.BS_POS + 2] <= self.start[2] + self.config.landed_below
+        return self.body[bodies.BS_POS + 2] <= self._ground_z + self.config.landed_below
 
     def _body_state(self) -> UavBodyState:
         b = self.body

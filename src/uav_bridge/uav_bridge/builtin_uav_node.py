@@ -58,6 +58,7 @@ from tether_common.lockstep import Input
 from tether_common.lockstep import Lockstep
 from tether_common.lockstep import Tick
 from tether_common.lockstep import period_ns
+from tether_dynamics.plant.ends import quaternion_rotation
 from uav_bridge.builtin_uav import BuiltinUav
 from uav_bridge.builtin_uav import BuiltinUavConfig
 from uav_bridge.builtin_uav_params import PARAMETERS
@@ -73,9 +74,12 @@ class BuiltinUavNode(Node):
         super().__init__('builtin_uav')
         try:
             params = declare_parameters(self, PARAMETERS)
-            for name in ('inertia', 'attach_offset', 'start'):
+            for name in ('inertia', 'attach_offset', 'start', 'pad'):
                 if len(params[name]) != 3:
                     raise ValueError(f'parameter {name}: expected 3 numbers, got {params[name]}')
+            if params['ground'] == 'pad' and params['reel_pose_rate'] < params['rate']:
+                raise ValueError(f'parameter reel_pose_rate: {params["reel_pose_rate"]:g} Hz is below rate '
+                                 f'{params["rate"]:g} Hz; every tick needs the pad\'s pose')
             if min(params['inertia']) <= 0.0:
                 raise ValueError(f'parameter inertia: expected positive moments, got {params["inertia"]}')
             if period_ns(1.0 / params['state_rate']) % period_ns(1.0 / params['rate']):
@@ -105,6 +109,9 @@ class BuiltinUavNode(Node):
         if params['command_rate']:
             command_period = 1.0 / params['command_rate']
             inputs.append(Input('/uav/command', UavCommand, command_period, command_period, LOOP))
+        self.pad = np.asarray(params['pad'], dtype=float) if params['ground'] == 'pad' else None
+        if self.pad is not None:
+            inputs.append(Input('/platform/reel_pose', PoseStamped, 1.0 / params['reel_pose_rate'], 0.0, STATE))
         self.lockstep.every(1.0 / params['rate'], self.step, inputs)
         commands = (f'/uav/command at {params["command_rate"]:g} Hz, one period late' if params['command_rate']
                     else 'services and /uav/setpoint on arrival')
@@ -121,7 +128,7 @@ class BuiltinUavNode(Node):
         wrench = tick.inputs.get('/tether/uav_wrench')
         force = np.zeros(3) if wrench is None else np.array(
             [wrench.wrench.force.x, wrench.wrench.force.y, wrench.wrench.force.z])
-        state = self.uav.step(tick.time_ns * 1e-9, force)
+        state = self.uav.step(tick.time_ns * 1e-9, force, self.pad_in_world(tick.inputs.get('/platform/reel_pose')))
         stamp = tick.stamp
         rotation = Rotation.from_quat(state.quaternion)
         pose, twist = pose_and_twist(stamp, state.position, state.quaternion, state.velocity,
@@ -144,6 +151,16 @@ class BuiltinUavNode(Node):
             msg.heartbeat_age = 0.0
             msg.command_sequence, msg.command_success, msg.command_message = self.outcome
             self.state_pub.publish(msg)
+
+    def pad_in_world(self, reel: PoseStamped | None):
+        """Where the UAV rests on the pad (m, world) with the reel mount at ``reel`` (every tick has one:
+        reel_pose_rate >= rate); None: level ground.
+        """
+        if self.pad is None:
+            return None
+        p, q = reel.pose.position, reel.pose.orientation
+        rotation = quaternion_rotation(np.array([q.x, q.y, q.z, q.w]), '/platform/reel_pose').matrix
+        return np.array([p.x, p.y, p.z]) + rotation @ self.pad
 
     def carry_out(self, command: UavCommand) -> None:
         """The command's request, once per sequence number, and its setpoint while it holds."""

@@ -27,6 +27,13 @@ PARAMETERS: tuple[ParamSpec, ...] = (
               read_only=True),
     ParamSpec('state_rate', 10.0, '/uav/state messages per second of sim time, one at every multiple of its period '
               '(the mission\'s uav_state_rate)', 'Hz', low=1.0, high=1000.0, read_only=True),
+    ParamSpec('ground', 'level', 'what the UAV lands and rests on: level (the height of start) or pad (a landing '
+              'pad on the boat, moving with it: /platform/reel_pose, a lockstep input without delay, carries it)',
+              choices=('level', 'pad'), read_only=True),
+    ParamSpec('pad', [0.0, 0.0, 0.0], 'ground pad: where the centre of mass rests on the pad, in the frame of '
+              '/platform/reel_pose (the reel mount, FLU axes of the boat)', 'm', read_only=True),
+    ParamSpec('reel_pose_rate', 100.0, 'ground pad: rate of /platform/reel_pose (the platform\'s state_rate)', 'Hz',
+              low=1.0, high=1000.0, read_only=True),
     ParamSpec('wrench_rate', 100.0, 'rate of /tether/uav_wrench: the plant\'s state_rate (lockstep input period)',
               'Hz', low=1.0, high=1000.0, read_only=True),
 )

@@ -11,12 +11,14 @@ and returns what to do (:class:`Outputs`): at most one autopilot request at a ti
 arm, takeoff, land, with the answer of the previous one fed back) and the position setpoint.
 Phases: ``wait`` (for the link and the autopilot's position estimate) → ``guided`` →
 ``arm`` → ``takeoff`` → ``climb`` → ``hold`` → ``return`` → ``land`` → ``landed``. At the
-end time, with a ``return_speed``, a flying UAV returns over its take-off pad on the boat
-before it lands, as ArduCopter's RTL does: the setpoint moves horizontally from the station to over the pad at
-the hold altitude at ``return_speed`` (so the reel, reeling in, keeps up), a function of the
-step's time alone; once the UAV is within ``return_tolerance`` of the pad horizontally the
-mission lands, descending onto the pad: the reverse of the take-off path (``return_speed``
-0: it lands where it is). A reel trip
+end time, with a ``return_speed``, a flying UAV returns over its pad on the boat before it
+lands: the setpoint moves in a straight line from the station to over the pad at
+``return_height`` (default: the hold altitude, as ArduCopter's RTL returns) at ``return_speed``
+(so the reel, reeling in, keeps up), a function of the step's time alone; once the UAV is
+within ``return_tolerance`` of the pad horizontally the mission lands, descending onto the
+pad (``return_speed`` 0: it lands where it is). Returning down the line toward the guide way
+keeps Δr/Δz away from 0, where the catenary reference (Sec. 4.2) is the straight chord: a
+hanging tether all the way down. A reel trip
 (tension or fouling) sends it to ``land`` from any phase at once, where it is, and the
 reason is kept.
 :class:`TripMonitor` decides when a reel trip counts: once the reel has stayed tripped for
@@ -46,7 +48,8 @@ class MissionConfig:
     climb_tolerance: float = 0.5    # m, take-off altitude reached within this
     retry_period: float = 2.0       # s, wait after a refused request before asking again
     pad: tuple = (0.0, 0.0)         # m, take-off pad on the boat, horizontal in world (the guide way: origin)
-    return_speed: float = 0.0       # m/s, horizontal speed of the setpoint returning over the pad; 0: no return
+    return_speed: float = 0.0       # m/s, speed of the setpoint returning over the pad; 0: no return
+    return_height: float | None = None   # m, height in world over the pad where the return ends; None: hold altitude
     return_tolerance: float = 0.5   # m, horizontal distance from over the pad at which the landing starts
 
     def station(self) -> np.ndarray:
@@ -195,10 +198,13 @@ class MissionLogic:
         return None, self.station.copy()
 
     def return_setpoint(self, t: float) -> np.ndarray:
-        """The return's setpoint at ``t`` (s): from its start toward over the pad at ``return_speed``, hold altitude."""
+        """The return's setpoint at ``t`` (s): in a straight line from its start toward over the pad at
+        ``return_height`` (default: the hold altitude), at ``return_speed``.
+        """
         assert self._return_start is not None, 'the return has not started'
         t0, start = self._return_start
-        target = np.array([self.config.pad[0], self.config.pad[1], start[2]])
+        height = start[2] if self.config.return_height is None else self.config.return_height
+        target = np.array([self.config.pad[0], self.config.pad[1], height])
         distance = float(np.linalg.norm(target - start))
         travelled = min(distance, self.config.return_speed * max(0.0, t - t0))
         return target.copy() if travelled >= distance else start + (target - start) * (travelled / distance)

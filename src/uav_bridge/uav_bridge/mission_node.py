@@ -23,8 +23,8 @@ at a time (mode, arm, takeoff, land; the answer fed to the next step) over one o
   ``/uav/pose``, ``/reel/state`` and ``/reel/diagnostics`` are used as they arrive. The
   autopilot runs on its own clock outside the lockstep, so such a run is not reproducible.
 
-At the end, with a ``return_speed``, the mission returns over the pad (``pad``), the
-setpoint on the link as while holding, then lands. A reel trip lands the UAV where it is: the reel in its
+At the end, with a ``return_speed``, the mission returns over the pad (``pad``, down to
+``return_height``), the setpoint on the link as while holding, then lands. A reel trip lands the UAV where it is: the reel in its
 fault mode (ReelState.MODE_FAULT: a safety trip holds it, its reason in ``/reel/diagnostics`` ``safety_trip``) for ``abort_after`` s, or a
 tension estimate above ``abort_tension`` (:class:`uav_bridge.mission.TripMonitor`). The
 mission's landing (the return and the descent) starts at ``land_time``, or
@@ -100,7 +100,7 @@ class MissionNode(Node):
             altitude=params['altitude'], radial=params['radial'], bearing=math.radians(params['bearing']),
             land_time=land_time(params, end), climb_tolerance=params['climb_tolerance'],
             retry_period=params['retry_period'], pad=tuple(params['pad']), return_speed=params['return_speed'],
-            return_tolerance=params['return_tolerance']))
+            return_height=params['return_height'] or None, return_tolerance=params['return_tolerance']))
         self.abort_tension = params['abort_tension']
         self.trips = TripMonitor(params['abort_after'])
         self.trip_reason = ''
@@ -114,8 +114,10 @@ class MissionNode(Node):
         self.get_logger().info(f'mission: station {station[2]:g} m up, {math.hypot(*station[:2]):g} m radial '
                                f'(Δr/Δz {math.hypot(*station[:2]) / station[2]:.2f}) in world, over '
                                f'{params["uav_link"]}; '
-                               + (f'returns over the pad at {list(params["pad"])} m at {params["return_speed"]:g} m/s '
-                                  'and lands' if params['return_speed'] > 0.0 else 'lands')
+                               + (f'returns over the pad at {list(params["pad"])} m'
+                                  + (f', {params["return_height"]:g} m up,' if params['return_height'] else '')
+                                  + f' at {params["return_speed"]:g} m/s and lands' if params['return_speed'] > 0.0
+                                  else 'lands')
                                + f' from {self.logic.config.land_time:g} s')
 
     def reel_state(self, msg: ReelState) -> None:

@@ -17,13 +17,16 @@ PARAMETERS: tuple[ParamSpec, ...] = (
               'start it this long before the run ends (the end tethersim run gives its nodes; land_time, if '
               'earlier, still counts); 0: not before land_time', 's', low=0.0, high=1e6,
               read_only=True),
-    ParamSpec('pad', [0.0, 0.0], 'take-off pad on the boat, horizontal in world (x east, y north): at the end, with '
-              'a return_speed, the UAV returns over it at the hold altitude, then lands on it; [0, 0]: over the '
+    ParamSpec('pad', [0.0, 0.0], 'landing pad on the boat, horizontal in world (x east, y north): at the end, with '
+              'a return_speed, the UAV returns over it to return_height, then lands on it; [0, 0]: over the '
               'guide way', 'm',
               read_only=True),
-    ParamSpec('return_speed', 0.0, 'horizontal speed of the setpoint returning over the pad (bounded so that the '
-              'reel, reeling in, keeps up); 0: no return, the UAV lands where it is', 'm/s', low=0.0, high=20.0,
-              read_only=True),
+    ParamSpec('return_speed', 0.0, 'speed of the setpoint returning over the pad, in a straight line (bounded so '
+              'that the reel, reeling in, keeps up); 0: no return, the UAV lands where it is', 'm/s', low=0.0,
+              high=20.0, read_only=True),
+    ParamSpec('return_height', 0.0, 'height in world over the pad where the return ends and the descent onto the pad '
+              'starts (a return down the line toward the guide way keeps the tether hanging); 0: the hold altitude',
+              'm', low=0.0, high=500.0, read_only=True),
     ParamSpec('return_tolerance', 0.5, 'the landing starts once the UAV is this close to over the pad, '
               'horizontally', 'm', low=0.05, high=10.0, read_only=True),
     ParamSpec('abort_tension', 0.0, 'land when the reel\'s tension estimate exceeds this; 0: only on the reel\'s '
