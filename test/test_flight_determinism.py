@@ -37,7 +37,8 @@ MISSION_PERIOD_NS = 100_000_000
 
 def short_flight(directory) -> str:
     """``outdoor_flight`` for ``DURATION`` s, the UAV at rest on level ground 28 m up, returning at the hold
-    altitude and landing before the end, no report."""
+    altitude and landing before the end, no report.
+    """
     scene = yaml.safe_load(find_scene('outdoor_flight').read_text())
     scene['duration'] = DURATION
     scene['reports'] = []

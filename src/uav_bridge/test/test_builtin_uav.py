@@ -64,7 +64,8 @@ def test_a_start_height_starts_hovering_armed_in_guided():
 
 def test_land_on_a_heaving_pad_touches_down_and_rides_with_it():
     """The ground is the pad on the boat: LAND descends onto it wherever it heaves, the UAV disarms on
-    touching it and then moves with it (its velocity the pad's), where on the pad it touched down."""
+    touching it and then moves with it (its velocity the pad's), where on the pad it touched down.
+    """
     def pad(t):
         return np.array([0.75, 0.1 * np.sin(0.5 * t), 1.5 + 0.9 * np.sin(0.8 * t)])
 

@@ -136,7 +136,8 @@ def test_the_end_returns_over_the_pad_at_the_hold_altitude_at_the_return_speed_t
 
 def test_a_return_height_brings_the_uav_down_the_line_toward_the_pad_then_lands():
     """With ``return_height`` the return goes in a straight line from the station to over the pad at that
-    height, at ``return_speed`` along the line: Δr/Δz stays away from 0 all the way down (0.5 to 0.21 here)."""
+    height, at ``return_speed`` along the line: Δr/Δz stays away from 0 all the way down (0.5 to 0.21 here).
+    """
     logic = MissionLogic(MissionConfig(altitude=30.0, radial=15.0, land_time=100.0, pad=(0.75, 0.0),
                                        return_speed=0.5, return_height=3.5, return_tolerance=0.5))
     logic.phase = 'hold'
