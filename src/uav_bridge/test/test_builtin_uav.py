@@ -95,9 +95,25 @@ def test_land_on_a_heaving_pad_touches_down_and_rides_with_it():
     assert state.armed and state.position[2] > pad(45.0)[2] + 1.0
 
 
-def test_a_landed_start_on_a_pad_rests_on_it():
-    uav = BuiltinUav(BuiltinUavConfig(start=(0.0, 0.0, 0.0)))
-    for k in range(5):
-        state = uav.step(0.01 * k, np.zeros(3), np.array([1.0, 0.0, 2.0 + 0.1 * k]))
-        np.testing.assert_allclose(state.position, [1.0, 0.0, 2.0 + 0.1 * k])
+def test_a_landed_start_over_the_pad_rests_on_it_and_one_beside_it_on_the_level_ground():
+    for start, expected in (((0.5, 0.0, 0.0), lambda k: [0.5, 0.0, 2.0 + 0.1 * k]),     # 0.5 m from its centre
+                            ((1.5, 0.0, 0.0), lambda k: [1.5, 0.0, 0.0])):          # beyond its 1 m radius
+        uav = BuiltinUav(BuiltinUavConfig(start=start))
+        for k in range(5):
+            state = uav.step(0.01 * k, np.zeros(3), np.array([0.0, 0.0, 2.0 + 0.1 * k]))
+            np.testing.assert_allclose(state.position, expected(k))
+        assert not state.armed
+
+
+def test_a_landing_beside_the_pad_comes_down_on_the_level_ground():
+    """An abort lands where the UAV is: away from the pad that is the level ground, not the pad's height."""
+    uav = BuiltinUav(BuiltinUavConfig(start=(5.0, 0.0, 0.0), start_height=3.0))
+    pad = np.array([0.75, 0.0, 1.5])
+    for k in range(1001):
+        state = uav.step(0.01 * k, np.zeros(3), pad + [0.0, 0.0, 0.5 * np.sin(0.01 * k)])
+    assert uav.land()[0]
+    for k in range(1001, 3001):
+        state = uav.step(0.01 * k, np.zeros(3), pad + [0.0, 0.0, 0.5 * np.sin(0.01 * k)])
     assert not state.armed
+    np.testing.assert_allclose(state.position, [5.0, 0.0, 0.0], atol=0.05)
+    assert state.position[2] == 0.0 and not state.velocity.any()

@@ -7,10 +7,11 @@ attachment point), the same function the plant integrates; the controller is
 commands the MAVLink bridge forwards to ArduPilot, with ArduCopter's meaning: GUIDED and
 LAND modes, arm, take off to an altitude above the take-off point, position targets in
 GUIDED, LAND descending at ``land_speed`` and disarming on the ground. The ground is level at
-the height of ``start``, or, stepped with a ``pad``, a landing pad on the boat: where the CoM
-rests on it, moving with the deck. While disarmed the body rests on the ground: at ``start``
-before the first flight (on the pad, with one), where it touched down after a landing, riding
-with the pad on one. With a
+the height of ``start``; stepped with a ``pad`` (where the CoM rests on a landing pad on the
+boat, moving with the deck), within ``pad_radius`` of it horizontally the ground is the pad.
+While disarmed the body rests on the ground: at ``start`` before the first flight (on the
+pad if ``start`` is over it), where it touched down after a landing, riding with the pad if
+it touched down on it. With a
 ``start_height`` it starts armed in GUIDED, hovering that high above ``start``, as a
 tethered run starts with the tether already deployed to the UAV in the air. Its estimate
 is ready at once (it has no EKF start-up).
@@ -45,6 +46,7 @@ class BuiltinUavConfig:
     dt: float = 1e-3                                    # s, body integration step
     land_speed: float = 0.5                             # m/s, LAND descent rate
     landed_below: float = 0.05                          # m above the start height counts as landed
+    pad_radius: float = 1.0                             # m, horizontal extent of the landing pad around its centre
 
 
 @dataclass(frozen=True)
@@ -71,6 +73,7 @@ class BuiltinUav:
         self.start = np.asarray(config.start, dtype=float)
         self.ground = self.start.copy()
         self._pad: np.ndarray | None = None       # m, world: the pad's rest point at the last step
+        self._riding = False                      # at rest on the pad, moving with it
         self._on_pad = np.zeros(3)                # m, world: where the UAV rests relative to the pad's rest point
         self._ground_z = float(self.start[2])
         self.body = np.zeros(bodies.BS_SIZE)
@@ -117,6 +120,11 @@ class BuiltinUav:
         if arm and not self.armed:
             self.controller = StationController(self.config.mass, self.inertia, self.config.gravity)
             self.reference = self.body[bodies.BS_POS:bodies.BS_POS + 3].copy()
+            self._riding = False
+        if not arm and self.armed:
+            self.armed = False
+            over = self._over(self._pad)
+            self._touch_down(self._pad if over else None, None)
         self.armed = arm
         return True, 'armed' if arm else 'disarmed'
 
@@ -169,8 +177,8 @@ class BuiltinUav:
             velocity = None if pad is None else (pad - before) / (t - self._t)
             for i in range(n_sub):
                 self._advance(dt, force, None if pad is None else before + (pad - before) * ((i + 1) / n_sub), velocity)
-        elif pad is not None and not self.armed:
-            self._rest(pad)
+        elif pad is not None and self._t is None and not self.armed and self._over(pad):
+            self._touch_down(pad, None)
         self._pad = pad
         self._t = t
         if self.armed:
@@ -182,21 +190,33 @@ class BuiltinUav:
         return BuiltinUavState(self.armed, self.mode, b[0:3].copy(), b[3:6].copy(), b[13:16].copy(), b[6:10].copy(),
                                b[10:13].copy())
 
+    def _over(self, pad: np.ndarray | None) -> bool:
+        """The body is within ``pad_radius`` of the pad horizontally."""
+        return pad is not None and math.hypot(self.body[bodies.BS_POS] - pad[0],
+                                              self.body[bodies.BS_POS + 1] - pad[1]) <= self.config.pad_radius
+
+    def _touch_down(self, pad: np.ndarray | None, pad_velocity: np.ndarray | None) -> None:
+        """Come to rest where the body is: on the pad (riding with it) or on the level ground."""
+        position = self.body[bodies.BS_POS:bodies.BS_POS + 3]
+        self._riding = pad is not None
+        if self._riding:
+            self._on_pad = np.array([position[0] - pad[0], position[1] - pad[1], 0.0])
+        else:
+            self.ground = np.array([position[0], position[1], self.start[2]])
+        self._rest(pad, pad_velocity)
+
     def _advance(self, dt: float, force: np.ndarray, pad: np.ndarray | None, pad_velocity: np.ndarray | None) -> None:
-        self._ground_z = float(self.start[2] if pad is None else pad[2])
         if not self.armed:
-            self._rest(pad, pad_velocity)
+            self._ground_z = float(pad[2]) if self._riding else float(self.start[2])
+            self._rest(pad if self._riding else None, pad_velocity if self._riding else None)
             return
+        over = self._over(pad)
+        self._ground_z = float(pad[2]) if over else float(self.start[2])
         if self.mode == 'LAND':
             self.reference[2] = max(self._ground_z - 0.2, self.reference[2] - self.config.land_speed * dt)
             if self._on_ground():
                 self.armed = False
-                position = self.body[bodies.BS_POS:bodies.BS_POS + 3]
-                if pad is None:
-                    self.ground = np.array([position[0], position[1], self.start[2]])
-                else:
-                    self._on_pad = np.array([position[0] - pad[0], position[1] - pad[1], 0.0])
-                self._rest(pad, pad_velocity)
+                self._touch_down(pad if over else None, pad_velocity if over else None)
                 return
         bodies.body_step(self.body, self.config.mass, self.inertia, self.inertia_inv, self.rho, self.thrust,
                          self.torque, force, self.config.gravity, dt)

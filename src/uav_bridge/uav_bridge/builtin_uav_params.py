@@ -32,6 +32,9 @@ PARAMETERS: tuple[ParamSpec, ...] = (
               choices=('level', 'pad'), read_only=True),
     ParamSpec('pad', [0.0, 0.0, 0.0], 'ground pad: where the centre of mass rests on the pad, in the frame of '
               '/platform/reel_pose (the reel mount, FLU axes of the boat)', 'm', read_only=True),
+    ParamSpec('pad_radius', 1.0, 'ground pad: its extent around pad, horizontally; beyond it the ground is level at '
+              'the height of start (a landing elsewhere, as an abort, comes down there)', 'm', low=0.05, high=50.0,
+              read_only=True),
     ParamSpec('reel_pose_rate', 100.0, 'ground pad: rate of /platform/reel_pose (the platform\'s state_rate)', 'Hz',
               low=1.0, high=1000.0, read_only=True),
     ParamSpec('wrench_rate', 100.0, 'rate of /tether/uav_wrench: the plant\'s state_rate (lockstep input period)',
