@@ -13,6 +13,7 @@ import fcntl
 import os
 import socket
 import subprocess
+import time
 from pathlib import Path
 
 import psutil
@@ -60,6 +61,18 @@ def _udp_port_free(port: int) -> bool:
         except OSError:
             return False
     return True
+
+
+def connect_when_listening(port: int, timeout: float = 60.0) -> socket.socket:
+    """A TCP client on SITL's ``port`` once SITL listens there (it starts listening some time after its start)."""
+    deadline = time.monotonic() + timeout
+    while True:
+        try:
+            return socket.create_connection(('127.0.0.1', port), timeout=5.0)
+        except OSError:
+            if time.monotonic() > deadline:
+                raise
+            time.sleep(0.2)
 
 
 def claim_instance() -> tuple[int, object]:

@@ -16,7 +16,6 @@ position-hold error about the take-off point.
 
 from __future__ import annotations
 
-import socket
 import threading
 import time
 
@@ -24,6 +23,7 @@ import numpy as np
 import pytest
 
 from sitl_process import SitlProcess
+from sitl_process import connect_when_listening
 from sitl_process import sitl_unavailable
 from tether_common.constants import GRAVITY
 from tether_dynamics.plant import PlantConfig
@@ -152,12 +152,12 @@ def test_a_sitl_restart_puts_the_uav_back_and_time_runs_on(tmp_path):
         thread.start()
         sitl.start()
         # SITL runs only once a MAVLink client is connected: a bare TCP connection will do
-        links.append(_connect(sitl.config.port))
+        links.append(connect_when_listening(sitl.config.port))
         _wait(lambda: physics.t > 3.0, 'SITL frames')
         sitl.kill()
         before, frames_before = physics.t, physics.counts.stepped
         sitl.start(wipe=False)
-        links.append(_connect(sitl.config.port))
+        links.append(connect_when_listening(sitl.config.port))
         _wait(lambda: physics.t > before + 3.0, 'frames of the restarted SITL')
         assert physics.counts.restarts == 1 and physics.counts.lost == 0 and physics.counts.rejected == 0
         assert any('SITL restarted' in line for line in logs)
@@ -171,17 +171,6 @@ def test_a_sitl_restart_puts_the_uav_back_and_time_runs_on(tmp_path):
             link.close()
         sitl.close()
         server.close()
-
-
-def _connect(port: int) -> socket.socket:
-    deadline = time.monotonic() + 60.0
-    while True:
-        try:
-            return socket.create_connection(('127.0.0.1', port), timeout=1.0)
-        except OSError:
-            if time.monotonic() > deadline:
-                raise
-            time.sleep(0.2)
 
 
 def _wait(predicate, what: str, timeout: float = 300.0) -> None:

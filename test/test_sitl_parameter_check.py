@@ -7,29 +7,16 @@ runs (see ``sitl_process.py``).
 
 from __future__ import annotations
 
-import socket
-import time
 
 import pytest
 
 from sitl_process import SitlProcess
+from sitl_process import connect_when_listening
 from sitl_process import sitl_unavailable
 from uav_bridge.sitl_parameter_check import check_parameters
 
 UNAVAILABLE = sitl_unavailable()
 pytestmark = pytest.mark.skipif(UNAVAILABLE is not None, reason=UNAVAILABLE or '')
-
-
-def _connected(port: int, timeout: float = 60.0) -> socket.socket:
-    """A client on SITL's first port, once SITL listens there (it starts listening some time after its start)."""
-    deadline = time.monotonic() + timeout
-    while True:
-        try:
-            return socket.create_connection(('127.0.0.1', port), timeout=5)
-        except ConnectionRefusedError:
-            if time.monotonic() > deadline:
-                raise
-            time.sleep(0.2)
 
 
 def test_a_known_name_is_confirmed_and_an_unknown_one_named(tmp_path):
@@ -38,7 +25,7 @@ def test_a_known_name_is_confirmed_and_an_unknown_one_named(tmp_path):
     sitl.start()
     try:
         # SITL runs once a client holds its first port (the bridge's); the check uses the second
-        with _connected(sitl.config.port):
+        with connect_when_listening(sitl.config.port):
             result = check_parameters(f'tcp:127.0.0.1:{sitl.config.port + 2}', wanted, patience=6,
                                       connect_timeout=60)
     finally:
