@@ -13,15 +13,15 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-import yaml
 
 from tether_bringup.bag_reader import read_bag
-from tether_bringup.scene import find_scene
 from tether_common.lockstep import stamp_ns
 
 from tethersim_testing import bag_contents
 from tethersim_testing import busy_cores
 from tethersim_testing import tethersim
+from tethersim_testing import installed_scene
+from tethersim_testing import write_scene
 
 pytestmark = pytest.mark.long_run
 
@@ -39,15 +39,13 @@ def short_flight(directory) -> str:
     """``outdoor_flight`` for ``DURATION`` s, the UAV at rest on level ground 28 m up, returning at the hold
     altitude and landing before the end, no report.
     """
-    scene = yaml.safe_load(find_scene('outdoor_flight').read_text())
+    scene = installed_scene('outdoor_flight')
     scene['duration'] = DURATION
     scene['reports'] = []
     scene['nodes']['uav']['parameters'].update(start=[15.0, 0.0, 28.0], start_height=0.0, ground='level')
     scene['nodes']['mission']['parameters'].update(land_before_end=LAND_BEFORE_END, pad=PAD,
                                                    return_speed=RETURN_SPEED, return_height=0.0)
-    path = directory / 'short_flight.yaml'
-    path.write_text(yaml.safe_dump(scene))
-    return str(path)
+    return write_scene(scene, directory / 'short_flight.yaml')
 
 
 @pytest.fixture(scope='module')

@@ -12,15 +12,15 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-import yaml
 
 from tether_bringup.bag_reader import read_bag
-from tether_bringup.scene import find_scene
 from tether_common.lockstep import stamp_ns
 from tether_dynamics.plant.ends import quaternion_rotation
 from tether_dynamics.statics.reference_length import reference_length
 
 from tethersim_testing import tethersim
+from tethersim_testing import installed_scene
+from tethersim_testing import write_scene
 
 DURATION = 12.0
 """s of sim time: the descent of 1-3 m at 0.5 m/s onto the pad heaving about 1 m, and the ride."""
@@ -31,7 +31,7 @@ PAD = np.array([0.5, 0.0, 1.0])
 @pytest.fixture(scope='module')
 def run(tmp_path_factory):
     base = tmp_path_factory.mktemp('landing')
-    scene = yaml.safe_load(find_scene('indoor_flight').read_text())
+    scene = installed_scene('indoor_flight')
     assert scene['nodes']['uav']['parameters']['pad'] == PAD.tolist()
     scene['duration'] = DURATION
     scene['reports'] = []
@@ -41,10 +41,9 @@ def run(tmp_path_factory):
     for node in ('plant', 'reel'):
         scene['nodes'][node]['parameters']['initial_length'] = length
     scene['nodes']['plant']['parameters']['elements'] = 2    # 1.5 m: stable at the scene's step (0.81 m at 4.9 m)
-    path = base / 'landing.yaml'
-    path.write_text(yaml.safe_dump(scene))
+    path = write_scene(scene, base / 'landing.yaml')
     out = base / 'run'
-    result = tethersim('run', str(path), '--rate', 'max', '--out', str(out), timeout=600)
+    result = tethersim('run', path, '--rate', 'max', '--out', str(out), timeout=600)
     assert result.returncode == 0, result.stderr[-3000:]
     return read_bag(out / 'bag', ['/uav/pose', '/uav/state', '/platform/reel_pose', '/mission/state',
                                   '/reel/diagnostics', '/tether/state'])

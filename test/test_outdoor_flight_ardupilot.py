@@ -25,19 +25,19 @@ import re
 import threading
 
 import pytest
-import yaml
 
 from sitl_process import SitlProcess
 from sitl_process import put_on_instance
 from sitl_process import sitl_binary
 from sitl_process import sitl_unavailable
 from tether_bringup.bag_reader import read_bag
-from tether_bringup.scene import find_scene
 from tether_common.lockstep import stamp_ns
 from tethersim_testing import bag_payloads
 from tethersim_testing import differing_topics
 from tethersim_testing import processes_of
 from tethersim_testing import tethersim
+from tethersim_testing import installed_scene
+from tethersim_testing import write_scene
 from uav_bridge.mission_report import analyse
 from uav_bridge.mission_report import load_run
 
@@ -60,14 +60,12 @@ INSTANCE_TOPICS = ('/uav/state',)
 
 def _scene(directory, instance: int, duration: float, speedup: float) -> str:
     directory.mkdir()
-    scene = yaml.safe_load(find_scene('outdoor_flight_ardupilot').read_text())
+    scene = installed_scene('outdoor_flight_ardupilot')
     put_on_instance(scene, instance, directory / 'sitl')
     scene['duration'] = duration
     scene['nodes']['sitl']['parameters']['speedup'] = speedup
     scene['nodes']['mission']['parameters']['altitude'] = ALTITUDE
-    path = directory / 'outdoor_flight_ardupilot.yaml'
-    path.write_text(yaml.safe_dump(scene))
-    return str(path)
+    return write_scene(scene, directory / 'outdoor_flight_ardupilot.yaml')
 
 
 @pytest.fixture(scope='module')
@@ -101,8 +99,7 @@ def test_arducopter_holds_station_on_the_plants_tether_in_the_scene(runs):
     frames = FRAMES.search((out / 'logs' / 'json_physics.log').read_text())
     assert frames, 'no frame account in the json_physics log'
     stepped, until, resent, lost, restarts, rejected = frames.groups()
-    frame_rate = yaml.safe_load(find_scene('outdoor_flight_ardupilot').read_text())['nodes']['json_physics'][
-        'parameters']['frame_rate']
+    frame_rate = installed_scene('outdoor_flight_ardupilot')['nodes']['json_physics']['parameters']['frame_rate']
     assert int(lost) == 0 and int(restarts) == 0 and int(rejected) == 0
     assert int(stepped) == round(float(until) * frame_rate)
     assert float(until) >= RUNS['hold'][0] - 0.011

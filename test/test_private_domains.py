@@ -21,6 +21,7 @@ from tether_bringup.environment import reserved_domain
 from tethersim_testing import SCENES
 from tethersim_testing import processes_of
 from tethersim_testing import start_tethersim
+from tethersim_testing import write_scene
 
 PORT_BASE = 32768
 NODES = Path(__file__).resolve().parent / 'nodes'
@@ -81,11 +82,10 @@ def test_two_runs_at_once_get_their_own_domains_and_no_cross_talk(tmp_path):
         scene['nodes']['listener']['script'] = str(NODES / 'listener_double.py')
         scene['nodes']['talker']['parameters'] = {'rate': rate, 'sent_log': str(tmp_path / f'sent-{name}.jsonl')}
         scene['nodes']['listener']['parameters'] = {'period': 1.0 / rate, 'estimate_period': 1.0 / rate}
-        scene_path = tmp_path / f'scene-{name}.yaml'
-        scene_path.write_text(yaml.safe_dump(scene))
+        scene_path = write_scene(scene, tmp_path / f'scene-{name}.yaml')
         stderr_path = tmp_path / f'stderr-{name}.txt'
         with open(stderr_path, 'w') as stderr:
-            process = start_tethersim('run', str(scene_path), '--out', str(tmp_path / name),
+            process = start_tethersim('run', scene_path, '--out', str(tmp_path / name),
                                       stdout=open(tmp_path / f'stdout-{name}.txt', 'w'), stderr=stderr)
         runs[name] = (process, stderr_path)
     domains = {}

@@ -27,6 +27,7 @@ from tether_bringup.msgdef import type_hash
 from tethersim_testing import SCENES
 from tethersim_testing import processes_of
 from tethersim_testing import tethersim
+from tethersim_testing import write_scene
 
 
 @pytest.fixture(scope='module')
@@ -37,9 +38,8 @@ def recorded(tmp_path_factory):
     scene['nodes']['talker']['parameters']['sent_log'] = str(sent_log)
     scene['nodes']['talker']['script'] = str(SCENES.parent / 'nodes' / 'talker_double.py')
     scene['nodes']['listener']['script'] = str(SCENES.parent / 'nodes' / 'listener_double.py')
-    scene_path = run_dir / 'scene.yaml'
-    scene_path.write_text(yaml.safe_dump(scene))
-    result = tethersim('run', str(scene_path), '--out', str(run_dir / 'out'))
+    scene_path = write_scene(scene, run_dir / 'scene.yaml')
+    result = tethersim('run', scene_path, '--out', str(run_dir / 'out'))
     sent = [json.loads(line) for line in sent_log.read_text().splitlines()]
     return result, run_dir / 'out', sent
 

@@ -4,15 +4,15 @@ from __future__ import annotations
 
 import psutil
 import pytest
-import yaml
 
 from sitl_process import SitlProcess
 from sitl_process import sitl_binary
 from sitl_process import put_on_instance
 from sitl_process import sitl_unavailable
-from tethersim_testing import ROOT
 from tethersim_testing import processes_of
 from tethersim_testing import tethersim
+from tethersim_testing import installed_scene
+from tethersim_testing import write_scene
 from uav_bridge.report import read_flight
 
 UNAVAILABLE = sitl_unavailable()
@@ -22,14 +22,13 @@ pytestmark = [pytest.mark.skipif(UNAVAILABLE is not None, reason=UNAVAILABLE or 
 def test_uav_sitl_scene_takes_off_holds_station_and_lands(tmp_path, monkeypatch):
     claim = SitlProcess(tmp_path / 'claim')          # a free SITL instance for this run
     try:
-        scene = yaml.safe_load((ROOT / 'src/tether_bringup/scenes/uav_sitl.yaml').read_text())
+        scene = installed_scene('uav_sitl')
         put_on_instance(scene, claim.config.instance, tmp_path / 'sitl')
-        path = tmp_path / 'uav_sitl.yaml'
-        path.write_text(yaml.safe_dump(scene))
+        path = write_scene(scene, tmp_path / 'uav_sitl.yaml')
         monkeypatch.setenv('ARDUPILOT_SITL_BIN', str(sitl_binary()))
         out = tmp_path / 'run'
         # the graph at half SITL's speed, so the flight fits the scene even when SITL falls behind its speedup
-        result = tethersim('run', str(path), '--out', str(out), '--rate', '2', timeout=900)
+        result = tethersim('run', path, '--out', str(out), '--rate', '2', timeout=900)
     finally:
         claim.close()
     assert result.returncode == 0, result.stderr[-3000:]

@@ -9,13 +9,26 @@ from contextlib import contextmanager
 from pathlib import Path
 
 import psutil
+import yaml
 from mcap.reader import make_reader
 from rclpy.serialization import deserialize_message
 
+from tether_bringup.scene import find_scene
 from tether_common.message_types import message_class
 
 ROOT = Path(__file__).resolve().parent.parent
 SCENES = ROOT / 'test' / 'scenes'
+
+
+def installed_scene(name: str) -> dict:
+    """The installed scene ``name`` as the mapping a test edits before :func:`write_scene`."""
+    return yaml.safe_load(find_scene(name).read_text())
+
+
+def write_scene(scene: dict, path: Path) -> str:
+    """Write ``scene`` to the YAML file ``path``; return the path, as ``tethersim run`` takes it."""
+    path.write_text(yaml.safe_dump(scene))
+    return str(path)
 
 
 def tethersim(*args: str, timeout: float = 180.0, **kwargs) -> subprocess.CompletedProcess:
