@@ -122,9 +122,7 @@ class BuiltinUav:
             self.reference = self.body[bodies.BS_POS:bodies.BS_POS + 3].copy()
             self._riding = False
         if not arm and self.armed:
-            self.armed = False
-            over = self._over(self._pad)
-            self._touch_down(self._pad if over else None, None)
+            self._touch_down(self._pad if self._over(self._pad) else None, None)
         self.armed = arm
         return True, 'armed' if arm else 'disarmed'
 
