@@ -110,10 +110,8 @@ class LockstepMaster:
         return {NODES_VARIABLE: ','.join([probe, *(name.lstrip('/') for name in members)])}
 
     def _matched(self) -> bool:
-        node = self._node
-        return self._clock.get_subscription_count() >= len(self._members) and all(
-            publisher.get_subscription_count() >= node.count_subscribers(publisher.topic_name)
-            for publisher in node.publishers)
+        from tether_common.lockstep import publishers_matched
+        return self._clock.get_subscription_count() >= len(self._members) and publishers_matched(self._node)
 
     def _wait(self, done, what) -> None:
         import rclpy

@@ -21,6 +21,7 @@ from tether_msgs.srv import Takeoff  # noqa: E402
 
 from tether_bringup.barrier import Barrier  # noqa: E402
 from tether_common.lockstep import NODES_VARIABLE  # noqa: E402
+from tether_common.lockstep import publishers_matched  # noqa: E402
 from tether_common.qos import CLOCK  # noqa: E402
 from tether_common.qos import LATCHED  # noqa: E402
 from tether_common.qos import STATE  # noqa: E402
@@ -61,9 +62,8 @@ def publish_clock_wrench_and_reel(probe, pull: WrenchStamped, reel: ReelState, m
         """The probe's publishers have matched every subscription of their topics (a node's subscription
         matching them does not mean they have matched it; a message published before is lost to it).
         """
-        return clock.get_subscription_count() >= len(members) and all(
-            publisher.get_subscription_count() >= probe.node.count_subscribers(publisher.topic_name)
-            for publisher in (wrench, reel_state, diagnostics))
+        return clock.get_subscription_count() >= len(members) and publishers_matched(
+            probe.node, (wrench, reel_state, diagnostics))
 
     def tick() -> None:
         if not barrier.reached(step[0] * 10_000_000) or (step[0] == 0 and not matched()):

@@ -15,6 +15,7 @@ from tether_bringup.bag_writer import QosRecord
 from tether_common.message_types import message_class
 from tether_bringup.recorder_node import qos_profile
 from tether_bringup.sim_clock import SimClock
+from tether_common.lockstep import publishers_matched
 from tether_common.qos import CLOCK as CLOCK_QOS
 
 
@@ -112,8 +113,7 @@ class BagPlayback:
 
     def matched(self, node: Node) -> bool:
         """True once every replay publisher has matched every subscription in the graph."""
-        return all(publisher.get_subscription_count() >= node.count_subscribers(topic)
-                   for topic, publisher in self._publishers.items())
+        return publishers_matched(node, self._publishers.values())
 
     @property
     def sim_time(self) -> float:

@@ -134,6 +134,16 @@ class Tick:
         return TimeMsg(sec=sec, nanosec=nanosec)
 
 
+def publishers_matched(node: Node, publishers=None) -> bool:
+    """Each of ``publishers`` (default: all of ``node``'s) has matched every subscription of its topic
+    that ``node``'s graph shows. A subscription matching a publisher does not mean the publisher has
+    matched it (each side discovers the other on its own), and a message published before that is
+    lost to the subscription.
+    """
+    return all(publisher.get_subscription_count() >= node.count_subscribers(publisher.topic_name)
+               for publisher in (node.publishers if publishers is None else publishers))
+
+
 def period_ns(period: float) -> int:
     """A period in integer nanoseconds, as producers and consumers must both round it."""
     if not period > 0:
@@ -317,9 +327,8 @@ class Lockstep:
             return
         present = {name for name, _ in node.get_node_names_and_namespaces()}
         ready = self._expected_nodes <= present and all(
-            stream.subscription.get_publisher_count() > 0 for stream in self._streams.values()) and all(
-            publisher.get_subscription_count() >= node.count_subscribers(publisher.topic_name)
-            for publisher in node.publishers)
+            stream.subscription.get_publisher_count() > 0 for stream in self._streams.values()) and \
+            publishers_matched(node)
         now = time.monotonic()
         if not ready:
             self._ready_since = None

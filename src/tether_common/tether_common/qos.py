@@ -37,16 +37,6 @@ its producer must still find the message of every tick, so 10 s at 100 Hz are qu
 CLOCK = QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=10, reliability=ReliabilityPolicy.RELIABLE)
 """``/clock``: volatile (a late subscriber must not take old times); the time master publishes the
 first value only once its publisher has matched every node's subscription."""
-LATCHED = QoSProfile(
-    history=HistoryPolicy.KEEP_LAST,
-    depth=1,
-    reliability=ReliabilityPolicy.RELIABLE,
-    durability=DurabilityPolicy.TRANSIENT_LOCAL,
-)
+LATCHED = _stream(1)
 LOCKSTEP_ACK = LATCHED
-LOCKSTEP_ACK_READER = QoSProfile(
-    history=HistoryPolicy.KEEP_LAST,
-    depth=1000,
-    reliability=ReliabilityPolicy.RELIABLE,
-    durability=DurabilityPolicy.TRANSIENT_LOCAL,
-)
+LOCKSTEP_ACK_READER = _stream(1000)
