@@ -69,27 +69,33 @@ def bag_payloads(run_dir: Path) -> dict[str, list[tuple[bytes, int]]]:
 
 
 def differing_topics(run_a: Path, run_b: Path, normalise: dict | None = None, prefix: bool = False) -> list[str]:
-    """Topics of two runs' bags whose messages differ in number, order, log time or content.
+    """Topics of two runs' bags whose messages differ in number, order, log time or content, each with where.
 
-    Messages are compared as bytes first; a pair whose bytes differ is decoded and compared as
+    Each entry is the topic followed by where it first differs (the message's index and log
+    time, or the counts), so a failing comparison says when the runs parted. Messages are
+    compared as bytes first; a pair whose bytes differ is decoded and compared as
     :func:`bag_contents` compares (the CDR padding the serializer leaves uninitialized can
     differ between equal messages), after ``normalise[topic](text)`` where given. Decoding only
     those pairs keeps the check fast on long bags. With ``prefix`` ``run_b`` is a shorter run
     of the same scene: each of its topics must be the start of ``run_a``'s.
     """
     first, second = _bag_messages(run_a), _bag_messages(run_b)
-    differing = sorted(set(first) ^ set(second))
+    differing = [f'{topic}: only in {run_a.name if topic in first else run_b.name}'
+                 for topic in sorted(set(first) ^ set(second))]
     for topic in sorted(set(first) & set(second)):
         kind = message_class(first[topic][0])
         same = (normalise or {}).get(topic, lambda text: text)
         a, b = first[topic][1], second[topic][1]
         if prefix:
             a = a[:len(b)]
-        if len(a) != len(b) or any(
-                ta != tb or (da != db and same(repr(deserialize_message(da, kind)))
-                             != same(repr(deserialize_message(db, kind))))
-                for (da, ta), (db, tb) in zip(a, b)):
-            differing.append(topic)
+        for index, ((da, ta), (db, tb)) in enumerate(zip(a, b)):
+            if ta != tb or (da != db and same(repr(deserialize_message(da, kind)))
+                            != same(repr(deserialize_message(db, kind)))):
+                differing.append(f'{topic}: from message {index} (log times {ta / 1e9:.3f} s, {tb / 1e9:.3f} s)')
+                break
+        else:
+            if len(a) != len(b):
+                differing.append(f'{topic}: {len(a)} messages against {len(b)}')
     return differing
 
 
