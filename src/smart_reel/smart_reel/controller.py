@@ -23,8 +23,9 @@ Catenary-model controller (Fig. 4.2). Every 20 ms (50 Hz):
    turns 1.6 cm of error into the full 48 V) reversed the drive at its current limit on
    every centimetre-sized step of the reference (the Kalman filter's corrections at each
    4 Hz dGPS fix, the 4 Hz radial distance), for longer than a period: the spool's
-   acceleration torque at the limit, ``N K i_max/r`` ≈ 600 N, read as tether tension
-   (:func:`smart_reel.sensors.tension_from_current`) and tripped the reel-in limit.
+   acceleration torque at the limit, ``N K i_max/r`` ≈ 600 N, read as tether tension by the
+   instantaneous estimate and tripped the reel-in limit (the estimate now takes the spool's
+   acceleration out: :func:`smart_reel.sensors.tension_from_current`).
 
 The gains are not guessed: ``tethersim reel tune`` (:mod:`smart_reel.tuning`) finds them.
 

@@ -15,6 +15,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from dataclasses import replace
 
 from smart_reel.controller import CatenaryController
 from smart_reel.controller import CatenaryOutput
@@ -34,6 +35,7 @@ from smart_reel.winch import CURRENT
 from smart_reel.winch import VOLTAGE
 from smart_reel.winch import Friction
 from smart_reel.winch import Winch
+from smart_reel.winch import WinchState
 
 CONTROLLERS = ('catenary', 'taut', 'locked')
 HISTORY = 2000
@@ -141,6 +143,7 @@ class ReelCore:
         self._control: CatenaryOutput | None = None
         self._trip = ''
         self._arm_angle = math.nan
+        self._tension = 0.0             # N, estimated over the last step
         self.sync_gain = sync_gain
         self.stiffness = stiffness
         self._history: dict[int, float] = {}
@@ -179,15 +182,20 @@ class ReelCore:
         angle = self.encoder.angle(self.encoder.counts(self.winch.state.spool_angle))
         return self.winch.spool.deployed_length(self.winch.initial_length, angle)
 
-    def tension_estimate(self) -> float:
-        """Tension (N) from the motor current (:func:`~smart_reel.sensors.tension_from_current`)."""
-        w = self.winch
-        return tension_from_current(w.state.current, w.state.spool_rate, w.spool.radius(w.deployed),
-                                    w.motor.shaft_constant, w.friction.viscous, w.friction.coulomb)
+    def _estimate_tension(self, before: WinchState, dt: float) -> float:
+        """Tension (N) from the drive over the step just taken from ``before``
+        (:func:`~smart_reel.sensors.tension_from_current`); on the brake, from the current alone
+        (no current: zero), the brake having taken the spool's deceleration.
+        """
+        w, s = self.winch, self.winch.state
+        speed_change = 0.0 if self._drive == BRAKE else s.spool_rate - before.spool_rate
+        return tension_from_current((s.charge - before.charge) / dt, (s.spool_angle - before.spool_angle) / dt,
+                                    speed_change, dt, w.spool.radius(w.deployed), w.motor.shaft_constant,
+                                    w.inertia(), w.friction.viscous, w.friction.coulomb)
 
     def _control_tick(self, t: float, inputs: ReelInputs) -> None:
         length = self.measured_length()
-        tension = self.tension_estimate()
+        tension = self._tension
         self._control = None
         if self.mode == 'locked':
             drive, command, direction = BRAKE, 0.0, 0.0
@@ -214,9 +222,10 @@ class ReelCore:
             self._control_tick(t, inputs)
             self._next_control = (math.floor(t / self.control_period + 1e-9) + 1) * self.control_period
         w = self.winch
-        before_angle, before_length = w.state.spool_angle, w.deployed
+        before, before_length = replace(w.state), w.deployed
         state = w.step(self.step_size, self._drive, self._command, inputs.tension or 0.0, *self._pull_slope(inputs))
         payout = (w.deployed - before_length) / self.step_size
+        self._tension = self._estimate_tension(before, self.step_size)
         command_payout = payout + self._sync(t, w.deployed, inputs)
         if inputs.departure_angle is not None:
             self._arm_angle = self.arm.read(inputs.departure_angle, payout)
@@ -225,9 +234,9 @@ class ReelCore:
             mode=mode, drive=self._drive, drive_command=self._command, voltage=state.voltage,
             current=state.current, shaft_torque=w.motor.shaft_constant * state.current,
             spool_angle=state.spool_angle, spool_rate=state.spool_rate,
-            mean_spool_rate=(state.spool_angle - before_angle) / self.step_size, payout_rate=payout,
+            mean_spool_rate=(state.spool_angle - before.spool_angle) / self.step_size, payout_rate=payout,
             command_payout=command_payout,
             deployed_length=w.deployed, measured_length=self.measured_length(), radius=w.spool.radius(w.deployed),
-            tension_estimate=self.tension_estimate(), arm_angle=self._arm_angle,
+            tension_estimate=self._tension, arm_angle=self._arm_angle,
             current_limited=state.current_limited, trip=self._trip, trips=self.safety.trips,
             control=self._control if tick else None, control_tick=tick)

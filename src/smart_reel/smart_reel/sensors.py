@@ -13,13 +13,18 @@ keeps its last side. The reading is quantised to the encoder's ``2π/2^bits``.
 
 Tension from current (Sec. 4.1): the motor current gives the shaft torque ``N K_t i``; at
 the drum radius ``r`` the tether tension that balances it, with the drivetrain's modelled
-viscous and Coulomb friction compensated while the spool turns, is
-``T = (-N K_t i + b ω + τ_c sgn ω)/r``. The spool's inertia is not compensated (the thesis
-does not say the prototype did), so accelerations show in the estimate: with the drive at its
-current limit, ``N K_t i_max/r`` ≈ 600 N. Compensating ``J ω̇`` from the encoder does not help:
-the drive's transients last about 3 ms, and encoder differences over 1-3 ms lag them (on the
-recorded outdoor flight that left peaks of 216-273 N). The catenary controller instead keeps
-the drive off its current limit (:mod:`smart_reel.controller`, step 5).
+viscous and Coulomb friction compensated while the spool turns and the spool's inertia ``J``
+compensated on the mean, is ``T = (-N K_t ī + b ω̄ + τ_c sgn ω̄ + J Δω/Δt)/r`` over a window
+``Δt``: the drive's mean current ``ī``, the spool's mean rate ``ω̄`` (encoder angle over the
+window) and the change ``Δω`` of its speed across the window (the motor's speed feedback at
+the window's ends). The thesis does not say the prototype compensated the inertia. An
+instantaneous estimate ``(-N K_t i + b ω + τ_c sgn ω)/r`` reads the spool's acceleration as
+tension: every voltage step of the controller drives a current transient of about 3 ms, and
+during the landing's reel-in those read ±36 N at each control tick with the true tension at
+0-5 N, and up to 119 N (a false reel-in trip) against 4.5 N. Over the reel's 10 ms step the
+mean balance holds exactly but for the Coulomb term at a reversal within the window. Compensating
+``J ω̇`` on the *instantaneous* current does not work either: the current's transients are
+shorter than any speed difference (errors of ±200 N).
 """
 
 from __future__ import annotations
@@ -48,10 +53,13 @@ class GuideArm:
         return math.floor(angle / self.resolution + 0.5) * self.resolution
 
 
-def tension_from_current(current: float, spool_rate: float, radius: float, shaft_constant: float,
-                         viscous: float, coulomb: float, moving_rate: float = 1e-3) -> float:
-    """Tether tension (N) that balances the motor torque and the modelled friction."""
-    torque = -shaft_constant * current
-    if abs(spool_rate) > moving_rate:
-        torque += viscous * spool_rate + math.copysign(coulomb, spool_rate)
+def tension_from_current(mean_current: float, mean_spool_rate: float, speed_change: float, window: float,
+                         radius: float, shaft_constant: float, inertia: float, viscous: float, coulomb: float,
+                         moving_rate: float = 1e-3) -> float:
+    """Tether tension (N) that balances the mean motor torque, the modelled friction and the spool's
+    mean acceleration over ``window`` s (module docstring); currents in A, rates in rad/s.
+    """
+    torque = -shaft_constant * mean_current + inertia * speed_change / window
+    if abs(mean_spool_rate) > moving_rate:
+        torque += viscous * mean_spool_rate + math.copysign(coulomb, mean_spool_rate)
     return torque / radius

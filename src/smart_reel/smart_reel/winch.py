@@ -71,6 +71,8 @@ class WinchState:
     """ω (rad/s), + pays out."""
     current: float = 0.0
     """Winding current (A)."""
+    charge: float = 0.0
+    """∫ current dt (C) from the start of the run: mean currents over any window."""
     voltage: float = 0.0
     """Winding voltage applied by the drive in the last sub-step (V)."""
     current_limited: bool = False
@@ -144,6 +146,7 @@ class Winch:
                 pull = max(0.0, tension - stiffness * (offset + r * (s.spool_angle - start_angle)))
                 new_rate = spool_rate_step(s.spool_rate, m.shaft_constant * s.current, pull, r, j, f.viscous,
                                            f.coulomb, f.static, self.stick_rate, h)
+            s.charge += h * s.current
             s.spool_angle += 0.5 * h * (s.spool_rate + new_rate)
             s.spool_rate = new_rate
             s.stuck = new_rate == 0.0

@@ -137,7 +137,7 @@ def test_a_safety_trip_is_published_with_its_reason_and_logged():
             relative.publish(rel)
             state = TetherState()
             _stamp(state, sim_ns)
-            state.deployed_length, state.tension_reel, state.departure_angle = 8.0, 0.6, 0.2
+            state.deployed_length, state.tension_reel, state.departure_angle = 8.0, 20.0, 0.2
             state.clearance_deck, state.clearance_sea = 0.0, 3.0
             tether.publish(state)
             msg = Clock()

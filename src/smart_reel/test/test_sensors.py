@@ -40,8 +40,12 @@ def test_reading_follows_the_tether_between_reversals_on_the_encoder_grid():
         assert abs(reading - math.radians(deg) - DEADBAND / 2) <= q / 2 + 1e-12
 
 
-def test_tension_from_current_balances_torque_and_friction():
+def test_tension_from_current_balances_torque_friction_and_the_spools_acceleration():
     # at rest: T r = -N K i
-    assert tension_from_current(-0.5, 0.0, 0.08, 4.0, 0.02, 0.25) == pytest.approx(25.0)
+    assert tension_from_current(-0.5, 0.0, 0.0, 0.01, 0.08, 4.0, 0.3, 0.02, 0.25) == pytest.approx(25.0)
     # paying out at 2 rad/s: T r = -N K i + b w + tau_c
-    assert tension_from_current(-0.5, 2.0, 0.08, 4.0, 0.02, 0.25) == pytest.approx((2.0 + 0.04 + 0.25) / 0.08)
+    assert tension_from_current(-0.5, 2.0, 0.0, 0.01, 0.08, 4.0, 0.3, 0.02, 0.25) == \
+        pytest.approx((2.0 + 0.04 + 0.25) / 0.08)
+    # speeding up the payout by 0.1 rad/s in 10 ms takes J dw/dt = 3 N m of the pull
+    assert tension_from_current(-0.5, 2.0, 0.1, 0.01, 0.08, 4.0, 0.3, 0.02, 0.25) == \
+        pytest.approx((2.0 + 0.04 + 0.25 + 3.0) / 0.08)
