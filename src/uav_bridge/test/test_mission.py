@@ -163,7 +163,7 @@ def test_a_return_height_brings_the_uav_down_the_line_toward_the_pad_then_lands(
     assert ratio.min() >= 0.75 / 3.5 and ratio.max() == pytest.approx(0.5)
 
 
-def test_the_return_waits_for_the_uav_over_the_pad_and_a_reel_trip_lands_at_once():
+def test_the_return_waits_for_the_uav_over_the_pad_and_goes_on_through_a_reel_trip():
     logic = MissionLogic(MissionConfig(altitude=5.0, radial=2.5, land_time=10.0, pad=(1.0, -1.0),
                                        return_speed=1.0, return_tolerance=0.5))
     logic.phase = 'hold'
@@ -173,7 +173,10 @@ def test_the_return_waits_for_the_uav_over_the_pad_and_a_reel_trip_lands_at_once
     assert out.phase == 'return'                                        # the setpoint is over the pad, the UAV not
     np.testing.assert_allclose(out.setpoint, [1.0, -1.0, 5.0])
     out = logic.step(20.1, Inputs(**FLYING, position=far, reel_fault='fouling'))
-    assert out.phase == 'land' and out.request == ('land', None) and logic.aborted
+    assert out.phase == 'return' and out.request is None and not logic.aborted     # toward the guide way still
+    np.testing.assert_allclose(out.setpoint, [1.0, -1.0, 5.0])
+    out = logic.step(20.2, Inputs(**FLYING, position=np.array([1.2, -1.0, 5.0]), reel_fault='fouling'))
+    assert out.phase == 'land' and out.request == ('land', None) and logic.outcome == 'end of the mission'
 
 
 def test_the_setpoint_of_the_return_depends_on_the_step_time_alone():

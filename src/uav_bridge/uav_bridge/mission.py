@@ -19,8 +19,11 @@ within ``return_tolerance`` of the pad horizontally the mission lands, descendin
 pad (``return_speed`` 0: it lands where it is). Returning down the line toward the guide way
 keeps Δr/Δz away from 0, where the catenary reference (Sec. 4.2) is the straight chord: a
 hanging tether all the way down. A reel trip
-(tension or fouling) sends it to ``land`` from any phase at once, where it is, and the
-reason is kept.
+(tension or fouling) sends it to ``land`` at once, where it is, and the reason is kept, from
+any phase but the return: the return already brings the UAV toward the guide way, shortening
+the tether, which is what either kind of trip calls for (the reel stops paying out a tether
+that sags toward the deck, and stops reeling in one that pulls), and landing where it is
+would put it down beside the boat.
 :class:`TripMonitor` decides when a reel trip counts: once the reel has stayed tripped for
 ``abort_after`` seconds (0: at once).
 """
@@ -129,12 +132,12 @@ class MissionLogic:
         if inputs.answer is not None and not inputs.answer[1]:
             self.reason = f'{inputs.answer[0]} refused: {inputs.answer[2]}'
             self._next_request = t + self.config.retry_period
-        if self.phase not in ('land', 'landed'):
+        if self.phase not in ('return', 'land', 'landed'):
             if inputs.reel_fault:
                 self.outcome = f'aborted: reel trip: {inputs.reel_fault}'
                 self.aborted = True
                 self._enter('land')
-            elif t >= self.config.land_time and self.phase != 'return':
+            elif t >= self.config.land_time:
                 self.outcome = 'end of the mission'
                 if self.phase in FLYING and inputs.position is not None and self.config.return_speed > 0.0:
                     start = self.station.copy() if self.phase == 'hold' else inputs.position.copy()

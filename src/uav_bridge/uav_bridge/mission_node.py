@@ -24,7 +24,8 @@ at a time (mode, arm, takeoff, land; the answer fed to the next step) over one o
   autopilot runs on its own clock outside the lockstep, so such a run is not reproducible.
 
 At the end, with a ``return_speed``, the mission returns over the pad (``pad``, down to
-``return_height``), the setpoint on the link as while holding, then lands. A reel trip lands the UAV where it is: the reel in its
+``return_height``), the setpoint on the link as while holding, then lands. A reel trip before the return lands the
+UAV where it is (during the return, the return goes on: :mod:`uav_bridge.mission`): the reel in its
 fault mode (ReelState.MODE_FAULT: a safety trip holds it, its reason in ``/reel/diagnostics`` ``safety_trip``) for ``abort_after`` s, or a
 tension estimate above ``abort_tension`` (:class:`uav_bridge.mission.TripMonitor`). The
 mission's landing (the return and the descent) starts at ``land_time``, or
