@@ -184,10 +184,15 @@ class ReelCore:
 
     def _estimate_tension(self, before: WinchState, dt: float) -> float:
         """Tension (N) from the drive over the step just taken from ``before``
-        (:func:`~smart_reel.sensors.tension_from_current`); on the brake, from the current alone
-        (no current: zero), the brake having taken the spool's deceleration.
+        (:func:`~smart_reel.sensors.tension_from_current`). On the brake, from the current alone
+        (no current: zero), the brake having taken the spool's deceleration; over a step in which
+        the spool reversed, started or stopped, the friction is not known (static, or Coulomb of
+        either sign), so the estimate of the step before is kept.
         """
         w, s = self.winch, self.winch.state
+        if self._drive != BRAKE and (before.spool_rate * s.spool_rate < 0.0
+                                     or (before.spool_rate == 0.0) != (s.spool_rate == 0.0)):
+            return self._tension
         speed_change = 0.0 if self._drive == BRAKE else s.spool_rate - before.spool_rate
         return tension_from_current((s.charge - before.charge) / dt, (s.spool_angle - before.spool_angle) / dt,
                                     speed_change, dt, w.spool.radius(w.deployed), w.motor.shaft_constant,

@@ -22,7 +22,9 @@ instantaneous estimate ``(-N K_t i + b ω + τ_c sgn ω)/r`` reads the spool's a
 tension: every voltage step of the controller drives a current transient of about 3 ms, and
 during the landing's reel-in those read ±36 N at each control tick with the true tension at
 0-5 N, and up to 119 N (a false reel-in trip) against 4.5 N. Over the reel's 10 ms step the
-mean balance holds exactly but for the Coulomb term at a reversal within the window. Compensating
+mean balance holds exactly while the spool turns one way; over a step in which it reverses,
+starts or stops the friction is unknown (static, or Coulomb of either sign: errors up to 31 N),
+and the reel keeps the estimate of the step before (:class:`smart_reel.reel.ReelCore`). Compensating
 ``J ω̇`` on the *instantaneous* current does not work either: the current's transients are
 shorter than any speed difference (errors of ±200 N).
 """

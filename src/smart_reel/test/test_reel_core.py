@@ -112,7 +112,7 @@ def test_estimator_corrections_at_each_fix_keep_the_drive_off_its_current_limit_
     # voltage with these jumps reversed the drive at its current limit: estimate 604 N, 5 reel-in trips.
     step, fix_period, rate, tension = 0.01, 0.25, 0.8, 3.0
     core = build_core(default_parameters(), reference_length(15.0, 28.0).length)
-    estimates, limited = [], 0
+    estimates, currents, limited = [], [], 0
     for k in range(400):
         t = k * step
         fix = int(t / fix_period)
@@ -121,8 +121,11 @@ def test_estimator_corrections_at_each_fix_keep_the_drive_off_its_current_limit_
         out = core.step(t, ReelInputs(dr, dz, rate, tension))
         if t >= 1.0:
             estimates.append(out.tension_estimate)
+            currents.append(out.current)
             limited += out.current_limited
-    assert np.ptp(estimates) > 10.0  # the drive does work on the jumps
-    assert np.max(np.abs(np.array(estimates) - tension)) < 40.0
+    # the drive does work on the jumps (1.1 A peak to peak; the spool reverses on each, and read over those
+    # steps, whose friction is unknown, the estimate was off by up to 31 N); it stays on the tether's pull
+    assert np.ptp(currents) > 0.5
+    assert np.max(np.abs(np.array(estimates) - tension)) < 0.5
     assert limited == 0
     assert core.safety.trips == 0
