@@ -18,9 +18,8 @@ period divides the graph's tick, every tick falls on a frame.
 Frames. SITL increments ``frame_count`` only after it parsed a reply, so:
 
 * the count one above the last one answered (or any count first): a new frame, stepped;
-* the same count again: SITL resent the frame (after about 1 s without a reply): the same
-  reply, not stepped again (no duplicated frame; the server decides whether it is sent,
-  :mod:`uav_bridge.json_physics_server`);
+* the same count again: SITL resent the frame (after about 1 s without a reply): answered
+  with the same reply, not stepped again (no duplicated frame);
 * a count more than one above: frames SITL counted that never arrived here, counted as
   lost (it cannot happen while SITL waits for each reply) and stepped once;
 * a lower count: SITL restarted. The UAV is put back at rest at its start pose and the
@@ -89,11 +88,10 @@ class UavFrame:
 
 @dataclass
 class FrameCounts:
-    """What :meth:`JsonPhysics.handle` and the server saw."""
+    """What :meth:`JsonPhysics.handle` saw."""
 
     stepped: int = 0            # frames stepped (new ones, the first after a gap or a restart)
-    resent: int = 0             # frames SITL sent again, not stepped again
-    crossed: int = 0            # of those, resends that crossed the reply on its way: left unanswered
+    resent: int = 0             # frames SITL sent again, answered without stepping
     lost: int = 0               # frame counts skipped
     restarts: int = 0           # SITL restarts (frame_count went down)
     rejected: int = 0           # datagrams that are not servo packets
@@ -143,14 +141,6 @@ class JsonPhysics:
 
     def _level(self, yaw: float) -> None:
         self.body[bodies.BS_QUAT:bodies.BS_QUAT + 4] = (0.0, 0.0, math.sin(yaw / 2), math.cos(yaw / 2))
-
-    def repeats_last(self, data: bytes) -> bool:
-        """Whether ``data`` is a servo packet of the frame answered last (a resend)."""
-        try:
-            packet = parse_servo(data)
-        except ValueError:
-            return False
-        return self._last is not None and packet.frame_count == self._last[0]
 
     def handle(self, data: bytes, tether_force) -> Reply:
         """Answer one datagram from SITL under the tether's force (N, world) held over the frame.

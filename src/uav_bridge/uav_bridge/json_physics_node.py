@@ -176,8 +176,7 @@ class JsonPhysicsNode(Node):
     def destroy_node(self) -> None:
         """Say what the frames were and release the UDP port with the node."""
         c = self.physics.counts
-        self.get_logger().info(f'frames: {c.stepped} stepped to {self.physics.t:.3f} s, '
-                               f'{c.resent - c.crossed} answered again, {c.crossed} crossed a reply (not answered), '
+        self.get_logger().info(f'frames: {c.stepped} stepped to {self.physics.t:.3f} s, {c.resent} answered again, '
                                f'{c.lost} lost, {c.restarts} SITL restarts, {c.rejected} datagrams rejected')
         self.server.close()
         super().destroy_node()

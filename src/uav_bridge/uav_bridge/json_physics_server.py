@@ -8,12 +8,11 @@ this server and the physics time is the one clock of the run.
 Datagrams already queued when one is read are read too; each is handled in order (new frames
 stepped, resends answered from the cache) and only the last one is answered. SITL takes
 any reply as the answer to the packet it is waiting for, so an extra reply in its socket
-makes it run a frame on a stale reply (no time step: its IMU sees the same sample twice),
-then send two frames without waiting: resends that piled up during a silence must get one
-answer. A resend of the frame answered last that arrives on its own crossed the reply on its
-way (SITL resends after about 1 s without one, and SITL then runs on with that reply): it is
-left unanswered, so the flight does not depend on when a silence ended. Only a second such
-resend, a second later, means the reply was lost, and is answered.
+leaves it one frame behind for the rest of the run: resends that piled up during a silence
+must get one answer, and when a resend raced a late reply (SITL then consumed the copy as
+the next frame's answer and sent two frames without waiting), the two frames arrive
+together and the single answer to the newer one puts SITL back in step. SITL's clock is
+unaffected either way (a repeated reply carries the same timestamp).
 
 The tether's force comes from a :class:`PlantTether` (the plant in the same process, stepped
 with the UAV's pose every ``period`` of physics time; its force acts from then on) or a
@@ -24,7 +23,6 @@ from __future__ import annotations
 
 import select
 import socket
-import time
 from collections.abc import Callable
 from dataclasses import dataclass
 
@@ -173,34 +171,24 @@ class JsonPhysicsServer:
         self.sock.bind((host, port))
         self.port = self.sock.getsockname()[1]
         self.peer: tuple | None = None
-        self._crossed = False           # a resend of the frame answered last went unanswered
 
     def close(self) -> None:
         """Release the port."""
         self.sock.close()
 
     def waiting(self, timeout: float) -> bool:
-        """Whether SITL's next frame is queued within ``timeout`` s (left unread): SITL sent it and waits.
+        """Whether a servo packet is queued within ``timeout`` s (left unread): SITL sent its next frame and waits.
 
         Once the reply to the last frame of a tick is out, SITL runs that frame's loop (reading
         its MAVLink ports among the rest) and sends the next packet: MAVLink bytes written after
-        this returned True reach SITL's first loop after the next reply, whatever the pace. A
-        resend of the frame answered last is not that packet: it is handled on the way (see
-        the module docstring).
+        this returned True reach SITL's first loop after the next reply, whatever the pace.
         """
-        deadline = time.monotonic() + timeout
-        while True:
-            readable, _, _ = select.select([self.sock], [], [], max(deadline - time.monotonic(), 0.0))
-            if not readable:
-                return False
-            data, _ = self.sock.recvfrom(MAX_DATAGRAM, socket.MSG_PEEK)
-            if not self.physics.repeats_last(data):
-                return True
-            self._serve([self.sock.recvfrom(MAX_DATAGRAM)])
+        readable, _, _ = select.select([self.sock], [], [], timeout)
+        return bool(readable)
 
     def poll(self, timeout: float) -> list[Reply]:
         """Wait up to ``timeout`` s for servo packets and answer them; every datagram's reply, in order
-        (at most the last one is sent).
+        (only the last one is sent).
         """
         readable, _, _ = select.select([self.sock], [], [], timeout)
         if not readable:
@@ -211,21 +199,10 @@ class JsonPhysicsServer:
                 datagrams.append(self.sock.recvfrom(MAX_DATAGRAM, socket.MSG_DONTWAIT))
             except BlockingIOError:
                 break
-        return self._serve(datagrams)
-
-    def _serve(self, datagrams: list[tuple[bytes, tuple]]) -> list[Reply]:
-        """Handle ``datagrams`` in order and send the last reply, unless they are only the first resend
-        after that frame's reply (the module docstring: it crossed the reply).
-        """
         answered = [(reply, address) for data, address in datagrams
-                    if (reply := self._answer(data, address)) is not None]
+                     if (reply := self._answer(data, address)) is not None]
         if not answered:
             return []
-        if all(reply.kind == 'resend' for reply, _ in answered) and not self._crossed:
-            self._crossed = True
-            self.physics.counts.crossed += len(answered)
-            return [reply for reply, _ in answered]
-        self._crossed = False
         reply, address = answered[-1]
         self.sock.sendto(reply.data, address)
         return [reply for reply, _ in answered]
