@@ -136,6 +136,7 @@ def fly_and_hold(server: JsonPhysicsServer, sitl: SitlRunner, session_config: Se
     flight.session = session
     physics = server.physics
     start = physics.frame.position.copy()
+    server.warm_up()
     sitl.start()
     session.start(stepped=True)
     try:

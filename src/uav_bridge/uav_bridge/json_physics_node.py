@@ -101,6 +101,7 @@ class JsonPhysicsNode(Node):
                 1.0 / p['frame_rate'], p['line_spring'], p['line_damping']) if self.straight_line else HeldForce()
             port = physics_port(p['instance'])
             self.server = JsonPhysicsServer(self.physics, port, tether=self.force, log=self.get_logger().info)
+            self.server.warm_up()       # compiled before the lockstep, not inside a reply to SITL
         except OSError as error:
             raise ConfigurationError(f'UDP port {physics_port(p["instance"])}: {error.strerror}') from None
         except ValueError as error:

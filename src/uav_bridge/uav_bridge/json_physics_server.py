@@ -21,6 +21,7 @@ with the UAV's pose every ``period`` of physics time; its force acts from then o
 
 from __future__ import annotations
 
+import copy
 import select
 import socket
 from collections.abc import Callable
@@ -34,7 +35,9 @@ from tether_dynamics.plant import TetherPlant
 from uav_bridge.json_physics import JsonPhysics
 from uav_bridge.json_physics import Reply
 from uav_bridge.json_physics import UavFrame
+from uav_bridge.sitl_json import ServoPacket
 from uav_bridge.sitl_json import SitlJsonError
+from uav_bridge.sitl_json import encode_servo
 
 MAX_DATAGRAM = 2048
 
@@ -175,6 +178,18 @@ class JsonPhysicsServer:
     def close(self) -> None:
         """Release the port."""
         self.sock.close()
+
+    def warm_up(self) -> None:
+        """Answer a made-up frame with scratch copies of the physics and the tether, so that numba
+        compiles their kernels now (seconds in a fresh checkout) and not inside the reply to SITL's
+        first frame. A compile there holds the reply over SITL's 1 s resend period: copies of frame 0
+        pile up, and how SITL's start then goes depends on the wall clock (two flights at once at
+        100x and 1x took two different tracks, 18.8 mm apart, in fresh checkouts only).
+        """
+        scratch = copy.deepcopy(self.physics)
+        scratch.handle(encode_servo(ServoPacket(800, 0, (1500,) * 16)), np.zeros(3))
+        if self.tether is not None:
+            copy.deepcopy(self.tether).update(scratch.frame)
 
     def waiting(self, timeout: float) -> bool:
         """Whether a servo packet is queued within ``timeout`` s (left unread): SITL sent its next frame and waits.
