@@ -32,8 +32,22 @@ def test_parameters_override_the_defaults_file(tmp_path):
     runner.process.wait(timeout=20)
     used = tmp_path / 'run' / 'defaults.parm'
     assert runner.command()[runner.command().index('--defaults') + 1] == str(used)
-    assert used.read_text() == 'FRAME_CLASS 1\n# comment\nMOT_THST_EXPO 0.65\nFRAME_TYPE 1\nSIM_RATE_HZ 400\n'
+    # a lockstep (JSON) model runs without SITL's logger thread, whose timing the flight would feel
+    assert used.read_text() == ('FRAME_CLASS 1\n# comment\nMOT_THST_EXPO 0.65\nFRAME_TYPE 1\nSIM_RATE_HZ 400\n'
+                                'LOG_BACKEND_TYPE 0\n')
     assert defaults.read_text().startswith('FRAME_CLASS 1\nFRAME_TYPE\t0')
+
+
+def test_the_logger_is_off_only_for_a_lockstep_model_and_unless_asked_for(tmp_path):
+    defaults = tmp_path / 'copter.parm'
+    defaults.write_text('FRAME_CLASS 1\n')
+    own = SitlConfig(Path('/bin/true'), defaults, tmp_path, model='+', parameters=(('FRAME_TYPE', 1),))
+    assert own.parameters_used == (('FRAME_TYPE', 1),)
+    asked = SitlConfig(Path('/bin/true'), defaults, tmp_path, model='JSON:127.0.0.1',
+                       parameters=(('log_backend_type', 1),))
+    assert asked.parameters_used == (('log_backend_type', 1),)
+    bare = SitlConfig(Path('/bin/true'), defaults, tmp_path, model='JSON:127.0.0.1')
+    assert bare.parameters_used == (('LOG_BACKEND_TYPE', 0),) and bare.defaults_used == tmp_path / 'defaults.parm'
 
 
 def test_refusals_name_the_file(tmp_path, monkeypatch):

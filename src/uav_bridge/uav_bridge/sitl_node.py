@@ -63,7 +63,7 @@ class SitlNode(Node):
         self.runner.start()
         self.check: CheckResult | None = None
         self._stop_check = threading.Event()
-        wanted = dict(self.runner.config.parameters)
+        wanted = dict(self.runner.config.parameters_used)
         if wanted:
             url = f'tcp:127.0.0.1:{self.runner.config.port + 2}'
             threading.Thread(target=self._check, args=(url, wanted), name='parameter-check', daemon=True).start()
