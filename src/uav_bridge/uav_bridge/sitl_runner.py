@@ -48,11 +48,11 @@ class SitlConfig:
         """``parameters``, and for a lockstep model ``LOG_BACKEND_TYPE 0`` unless they set it.
 
         SITL's dataflash logger runs in a thread of its own, and with it on the flight depends on
-        the machine's load: two flights of the same mission on the JSON physics, each with SITL
-        in lockstep, took different tracks (up to 20 mm apart after 56 s) when two such pairs ran
-        at once, in 2 runs of 2; with the logger off, all four flights were equal to the bit, in
-        2 runs of 2. A lockstep run is meant to be the same at any pace, so the logger is off
-        unless asked for.
+        the machine's load: a pair of flights of the same mission on the JSON physics, SITL in
+        lockstep at 100x and at 1x, took two tracks (up to 20 mm apart after 56 s) in both pairs
+        of two run at once; with the logger off, both flights of a pair were equal to the bit in
+        all 4 pairs of two such double runs. A lockstep run is meant to be the same at any pace,
+        so the logger is off unless asked for.
         """
         given = {name.upper() for name, _ in self.parameters}
         if self.lockstep and 'LOG_BACKEND_TYPE' not in given:
@@ -118,7 +118,7 @@ class SitlRunner:
                                             preexec_fn=_die_with_parent)
 
     def _write_defaults(self) -> None:
-        """The defaults file with ``parameters`` in place of (or after) the lines that set them."""
+        """The defaults file with the parameters used in place of (or after) the lines that set them."""
         c = self.config
         if not c.parameters_used:
             return
