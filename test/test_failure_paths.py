@@ -102,6 +102,23 @@ def test_crashing_node_stops_the_run_and_the_bag_is_finalized(scene_file, tmp_pa
     assert not processes_of(out)
 
 
+def test_a_node_of_the_group_that_cannot_start_is_named_and_the_bag_is_finalized(scene_file, tmp_path):
+    profile = tmp_path / 'heave.csv'
+    profile.write_text('not,a,profile\n1,2\n')
+    path = scene_file('description: the platform cannot read its profile\nduration: 5\nnodes:\n'
+                      f'  platform:\n    package: psr_platform_sim\n    executable: platform\n'
+                      f'    parameters: {{profile: {profile}}}\n'
+                      '  plant:\n    package: tether_dynamics\n    executable: plant\n')
+    out = tmp_path / 'out'
+    result = tethersim('run', str(path), '--out', str(out), timeout=120)
+    assert result.returncode == 1
+    assert 'tethersim: error: node group nodes (platform, plant) died with exit status 2' in result.stderr
+    assert f'platform: error: {profile}: first line must be the header' in result.stderr
+    assert 'Traceback' not in result.stderr
+    assert read_bag(out).complete
+    assert not processes_of(out)
+
+
 @pytest.mark.parametrize('signum, status', [(signal.SIGINT, 130), (signal.SIGTERM, 143)], ids=['SIGINT', 'SIGTERM'])
 def test_signal_to_bringup_finalizes_bag_and_leaves_no_process(scene_file, tmp_path, signum, status):
     sent_log = tmp_path / 'sent.jsonl'

@@ -30,8 +30,10 @@ from tether_dynamics.statics.catenary import THESIS_LINEAR_DENSITY
 
 from tethersim_testing import bag_contents
 from tethersim_testing import busy_cores
+from tethersim_testing import installed_scene
 from tethersim_testing import processes_of
 from tethersim_testing import tethersim
+from tethersim_testing import write_scene
 
 DURATION = '4'
 PLANT_TOPICS = ('/tether/state', '/tether/nodes', '/tether/markers', '/tether/uav_wrench', '/truth/relative')
@@ -215,3 +217,27 @@ def test_a_run_at_rate_max_with_every_core_busy_records_the_same_payloads(run, t
     for topic, messages in reference.items():
         assert len(messages) >= 4, topic
         assert recorded[topic] == messages, topic
+
+
+
+def test_a_process_per_node_records_the_same_payloads_as_the_node_group(run, tmp_path):
+    """The scene's nodes in one process (the node group, the default) or each in its own (``compose: false``):
+    the same messages, bit for bit, topic by topic and in order; the summaries show the group and its nodes'
+    CPU, or one process per node.
+    """
+    _, out = run
+    scene = installed_scene('tether_demo')
+    scene['compose'] = False
+    separate = tmp_path / 'separate'
+    result = tethersim('run', write_scene(scene, tmp_path / 'separate.yaml'), '--duration', DURATION,
+                       '--rate', 'max', '--out', str(separate), timeout=300)
+    assert result.returncode == 0, result.stdout + result.stderr
+    reference, recorded = bag_contents(out), bag_contents(separate)
+    assert set(recorded) == set(reference) and set(reference) >= set(PLANT_TOPICS)
+    for topic, messages in reference.items():
+        assert recorded[topic] == messages, topic
+    rows = {line.split()[0]: line.split() for line in (out / 'summary.txt').read_text().splitlines() if line}
+    own = {line.split()[0]: line.split() for line in (separate / 'summary.txt').read_text().splitlines() if line}
+    nodes = list(scene['nodes'])
+    assert rows['nodes'][1] == '0' and all(len(rows[node]) == 3 for node in nodes)
+    assert 'nodes' not in own and all(own[node][1] == '0' for node in nodes)

@@ -7,7 +7,10 @@ slowest process allows), once per configuration in the same benchmark run:
   (``TETHERSIM_EXECUTOR=single``), ``/clock`` every 10 ms, each step waiting for every ack;
 * ``events``: the ``EventsExecutor`` the nodes use, same clock;
 * ``after``: ``EventsExecutor``, ``/clock`` every 50 ms (``clock_step``) and a 50 ms
-  ``lockstep_window``, what the scenes use: the nodes still tick at their own rates.
+  ``lockstep_window``: the nodes still tick at their own rates;
+* ``group``: as ``after``, and the nodes whose packages register their class run in one
+  process, the node group (``tether_bringup.node_group``), as the scenes run them; the
+  others (the load nodes, scripts) and the recorder in their own.
 
 Stages:
 
@@ -24,9 +27,11 @@ Per process it reports CPU seconds from the first tick to the last ack (the run 
 bag and the run's ``graph.yaml``: published plus taken (each topic it subscribes to; for a
 lockstep node also both ``/clock`` subscriptions and one ack per ``/clock``; every recorded
 message and one ack per ``/clock`` for the recorder; ``/clock`` and the acks for the time
-master ``tethersim``), CPU per message and CPU per simulated second; per stage the achieved
-real-time factor and the CPU-bound ceiling (cores / total CPU per simulated second), which
-does not depend on what else loads the machine. Writes ``summary.txt`` and ``table.csv`` to --out.
+master ``tethersim``; the node group's, those of its nodes added up), CPU per message and CPU
+per simulated second; per stage the achieved real-time factor and the CPU-bound ceiling
+(cores / total CPU per simulated second, and no more than one core per process: 1 / the
+busiest process's), which does not depend on what else loads the machine. Writes
+``summary.txt`` and ``table.csv`` to --out.
 
 Run:  ./tethersim-env python bench/graph_throughput/run.py [--duration 10] [--scene NAME] [--out DIR]
 """
@@ -45,15 +50,17 @@ import yaml
 
 from tether_bringup.bag_reader import read_bag
 from tether_bringup.errors import SceneError
+from tether_bringup.node_group import GROUP_NAME
 from tether_bringup.scene import find_scene
 
 HERE = Path(__file__).resolve().parent
 FULLEST_SCENES = ('outdoor_flight', 'tether_demo')
 """Scenes the last stage runs by default: the first one installed (the fullest graph first)."""
 CONFIGS = {
-    'before': {'executor': 'single', 'clock_step': 0.01, 'lockstep_window': 0.0},
-    'events': {'executor': 'events', 'clock_step': 0.01, 'lockstep_window': 0.0},
-    'after': {'executor': 'events', 'clock_step': 0.05, 'lockstep_window': 0.05},
+    'before': {'executor': 'single', 'clock_step': 0.01, 'lockstep_window': 0.0, 'compose': False},
+    'events': {'executor': 'events', 'clock_step': 0.01, 'lockstep_window': 0.0, 'compose': False},
+    'after': {'executor': 'events', 'clock_step': 0.05, 'lockstep_window': 0.05, 'compose': False},
+    'group': {'executor': 'events', 'clock_step': 0.05, 'lockstep_window': 0.05, 'compose': True},
 }
 PLATFORM = {'package': 'psr_platform_sim', 'executable': 'platform',
             'parameters': {'profile': 'hpr1', 'seed': 1, 'profile_duration': 60.0}}
@@ -95,7 +102,8 @@ class NodeRow:
 def _scene(path: Path, nodes: dict, duration: float, config: dict) -> None:
     path.write_text(yaml.safe_dump({'description': 'graph throughput stage', 'duration': duration,
                                     'rate': 'max', 'clock_step': config['clock_step'],
-                                    'lockstep_window': config['lockstep_window'], 'nodes': nodes}, sort_keys=False))
+                                    'lockstep_window': config['lockstep_window'], 'compose': config['compose'],
+                                    'nodes': nodes}, sort_keys=False))
 
 
 def scene_nodes(name: str) -> dict:
@@ -109,7 +117,9 @@ def scene_nodes(name: str) -> dict:
 
 
 def _summary(run_dir: Path) -> tuple[float, float, dict[str, float]]:
-    """Achieved real-time factor, simulated time and CPU s per simulated s of each process from summary.txt."""
+    """Achieved real-time factor, simulated time and CPU s per simulated s of each process from summary.txt
+    (the node group's own row, not the rows of its nodes under it).
+    """
     lines = (run_dir / 'summary.txt').read_text().splitlines()
     rate = sim = None
     cpu = {}
@@ -120,16 +130,18 @@ def _summary(run_dir: Path) -> tuple[float, float, dict[str, float]]:
             rate = float(line.split('achieved real-time factor ')[1].split()[0])
         elif line.startswith('node '):
             in_table = True
+        elif in_table and line.startswith('total'):
+            in_table = False
         elif in_table and len(line.split()) == 5:
             name, _, _, per_sim_second, _ = line.split()
             cpu[name] = float(per_sim_second)
-        elif in_table:
-            in_table = False
     return rate, sim, cpu
 
 
-def _messages(run_dir: Path, nodes: list[str]) -> dict[str, int]:
-    """Messages each process handled: published and taken, from the bag's counts and the run's graph.yaml."""
+def _messages(run_dir: Path, nodes: list[str], group: tuple[str, ...]) -> dict[str, int]:
+    """Messages each process handled: published and taken, from the bag's counts and the run's graph.yaml;
+    ``group``: the nodes of the node group, whose messages are its process's.
+    """
     counts = {name: topic.count for name, topic in read_bag(run_dir / 'bag').topics.items()}
     graph = yaml.safe_load((run_dir / 'graph.yaml').read_text())
     clocks = counts['/clock']
@@ -141,6 +153,8 @@ def _messages(run_dir: Path, nodes: list[str]) -> dict[str, int]:
         handled[node] = published + taken + 3 * clocks
     handled['recorder'] = sum(counts.values()) + clocks
     handled['tethersim'] = clocks * (len(nodes) + 2)
+    if group:
+        handled[GROUP_NAME] = sum(handled.pop(node) for node in group)
     return handled
 
 
@@ -156,8 +170,9 @@ def run_stage(out: Path, label: str, nodes: dict, config: str, duration: float) 
     if result.returncode != 0:
         raise SystemExit(f'graph_throughput: stage {label} ({config}) failed:\n{result.stderr[-2000:]}')
     rate, sim, cpu = _summary(run_dir)
-    handled = _messages(run_dir, list(nodes))
-    rows = [NodeRow(label, config, name, cpu[name], handled[name], sim) for name in ['tethersim', 'recorder', *nodes]]
+    group = tuple(node for node in nodes if node not in cpu)
+    handled = _messages(run_dir, list(nodes), group)
+    rows = [NodeRow(label, config, name, cpu[name], handled[name], sim) for name in cpu]
     return rate, rows
 
 
@@ -181,30 +196,27 @@ def main(argv: list[str] | None = None) -> int:
             rows += stage_rows
 
     cores = os.cpu_count() or 1
-    by_key = {(r.stage, r.config, r.node): r for r in rows}
     names = list(CONFIGS)
     lines = [f'graph throughput, rate max, {args.duration:g} s simulated per stage, {cores} cores; '
              + '; '.join(f'{name}: {c["executor"]} executor, /clock every {c["clock_step"] * 1e3:g} ms, '
-                         f'window {c["lockstep_window"] * 1e3:g} ms' for name, c in CONFIGS.items()),
+                         f'window {c["lockstep_window"] * 1e3:g} ms, '
+                         + ('node group' if c['compose'] else 'a process per node') for name, c in CONFIGS.items()),
              '',
-             'achieved real-time factor (RTF) and its CPU-bound ceiling (cores / total CPU per simulated second)',
+             'achieved real-time factor (RTF) and its CPU-bound ceiling (min of cores / total CPU per simulated '
+             'second and 1 / the busiest process\'s)',
              f'{"stage":<24} {"topics":>6} ' + ' '.join(f'{"RTF " + n:>11} {"ceil " + n:>11}' for n in names)]
-    for label, nodes in stages.items():
+    for label in stages:
         topics = len(read_bag(args.out / f'{label.strip("+ ").replace(" ", "-")}-after' / 'bag').topics)
         cells = []
         for name in names:
-            total = sum(by_key[label, name, node].cpu_per_sim_second for node in ['tethersim', 'recorder', *nodes])
-            cells.append(f'{rates[label, name]:11.2f} {cores / total:11.2f}')
+            rates_of = [r.cpu_per_sim_second for r in rows if r.stage == label and r.config == name]
+            cells.append(f'{rates[label, name]:11.2f} {min(cores / sum(rates_of), 1 / max(rates_of)):11.2f}')
         lines.append(f'{label:<24} {topics:>6} ' + ' '.join(cells))
     lines += ['', 'CPU per message (us) and CPU per simulated second (s/s) per process',
-              f'{"stage":<24} {"process":<10} {"msgs after":>10} '
-              + ' '.join(f'{"us/msg " + n:>13}' for n in names) + ' ' + ' '.join(f'{"s/s " + n:>10}' for n in names)]
-    for label, nodes in stages.items():
-        for node in ['tethersim', 'recorder', *nodes]:
-            cells = [by_key[label, name, node] for name in names]
-            lines.append(f'{label:<24} {node:<10} {by_key[label, "after", node].messages:10d} '
-                         + ' '.join(f'{c.us_per_message:13.1f}' for c in cells) + ' '
-                         + ' '.join(f'{c.cpu_per_sim_second:10.3f}' for c in cells))
+              f'{"stage":<24} {"config":<7} {"process":<10} {"msgs":>8} {"us/msg":>8} {"s/s":>7}']
+    for r in rows:
+        lines.append(f'{r.stage:<24} {r.config:<7} {r.node:<10} {r.messages:8d} {r.us_per_message:8.1f} '
+                     f'{r.cpu_per_sim_second:7.3f}')
     text = '\n'.join(lines) + '\n'
     (args.out / 'summary.txt').write_text(text)
     with open(args.out / 'table.csv', 'w', newline='') as stream:

@@ -22,6 +22,9 @@ setup(
         'console_scripts': [
             'platform = psr_platform_sim.platform_node:main',
         ],
+        'tethersim.nodes': [
+            'platform = psr_platform_sim.platform_node:PlatformNode',
+        ],
         'tethersim.commands': [
             'psr = psr_platform_sim.cli:COMMAND',
         ],

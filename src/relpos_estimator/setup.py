@@ -24,6 +24,10 @@ setup(
             'sensors = relpos_estimator.sensors_node:main',
             'estimator = relpos_estimator.estimator_node:main',
         ],
+        'tethersim.nodes': [
+            'sensors = relpos_estimator.sensors_node:SensorsNode',
+            'estimator = relpos_estimator.estimator_node:EstimatorNode',
+        ],
         'tethersim.commands': [
             'estimator = relpos_estimator.cli:COMMAND',
         ],

@@ -23,6 +23,9 @@ setup(
         'console_scripts': [
             'reel = smart_reel.reel_node:main',
         ],
+        'tethersim.nodes': [
+            'reel = smart_reel.reel_node:ReelNode',
+        ],
         'tethersim.commands': [
             'reel = smart_reel.cli:COMMAND',
         ],

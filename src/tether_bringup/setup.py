@@ -24,6 +24,7 @@ setup(
     entry_points={
         'console_scripts': [
             'recorder = tether_bringup.recorder_node:main',
+            'nodes = tether_bringup.node_group:main',
         ],
         'tethersim.commands': [
             'run = tether_bringup.cli:RUN',

@@ -22,6 +22,9 @@ setup(
         'console_scripts': [
             'plant = tether_dynamics.plant_node:main',
         ],
+        'tethersim.nodes': [
+            'plant = tether_dynamics.plant_node:PlantNode',
+        ],
         'tethersim.commands': [
             'catenary = tether_dynamics.commands.catenary:COMMAND',
             'fem = tether_dynamics.commands.fem:COMMAND',

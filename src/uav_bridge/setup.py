@@ -26,6 +26,10 @@ setup(
             'builtin_uav = uav_bridge.builtin_uav_node:main',
             'json_physics = uav_bridge.json_physics_node:main',
         ],
+        'tethersim.nodes': [
+            'mission = uav_bridge.mission_node:MissionNode',
+            'builtin_uav = uav_bridge.builtin_uav_node:BuiltinUavNode',
+        ],
         'tethersim.reports': [
             'mission = uav_bridge.mission_report:COMMAND',
         ],

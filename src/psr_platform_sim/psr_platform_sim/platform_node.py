@@ -49,8 +49,8 @@ from tether_common.ros_parameters import declare_parameters
 class PlatformNode(Node):
     """Publishes the replicator's state, reel-mount pose and IMU from a motion profile."""
 
-    def __init__(self) -> None:
-        super().__init__('platform')
+    def __init__(self, **options) -> None:
+        super().__init__('platform', **options)
         try:
             params = declare_parameters(self, PARAMETERS)
             self.sim = PlatformSimulator(from_params(params))

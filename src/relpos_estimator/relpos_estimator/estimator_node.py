@@ -53,8 +53,8 @@ from tether_common.ros_parameters import declare_parameters
 class EstimatorNode(Node):
     """Runs the estimator on the buffered sensor messages, by stamp."""
 
-    def __init__(self) -> None:
-        super().__init__('estimator')
+    def __init__(self, **options) -> None:
+        super().__init__('estimator', **options)
         try:
             params = declare_parameters(self, PARAMETERS)
             covariances, logic = configs(params)

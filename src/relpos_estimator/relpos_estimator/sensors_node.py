@@ -83,8 +83,8 @@ def to_stamp(seconds: float) -> TimeMsg:
 class SensorsNode(Node):
     """Publishes simulated IMU, dGPS and fault messages from the platform's and the plant's truth."""
 
-    def __init__(self) -> None:
-        super().__init__('sensors')
+    def __init__(self, **options) -> None:
+        super().__init__('sensors', **options)
         try:
             self.params = declare_parameters(self, PARAMETERS)
             suite_config, dgps_config = configs(self.params)

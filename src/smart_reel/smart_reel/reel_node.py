@@ -74,8 +74,8 @@ def relative_inputs(msg, inputs: ReelInputs) -> None:
 class ReelNode(Node):
     """Runs the smart reel's drive, sensors, controller and safety against the plant."""
 
-    def __init__(self) -> None:
-        super().__init__('reel')
+    def __init__(self, **options) -> None:
+        super().__init__('reel', **options)
         try:
             self.params = declare_parameters(self, PARAMETERS)
             build_core(self.params, self.params['initial_length'] or 1.0)

@@ -1,4 +1,4 @@
-"""Run a scene: every node its own OS process, sim time from the bringup, one bag.
+"""Run a scene: its nodes in one process (the node group) or each in its own, sim time from the bringup, one bag.
 
 Sequence: the recorder starts first and waits until every node of the scene is in the
 graph and subscribed to; then /clock starts, once every node has subscribed to it and
@@ -10,6 +10,10 @@ node runs the ticks whose inputs have arrived, so nodes on different cores overl
 work instead of taking turns; what each tick selects is fixed by stamps, not by the window. The run ends at the scene's duration,
 on Ctrl-C or SIGTERM, or when a node dies; in every case the nodes are stopped, the
 recorder stops last and finalizes the bag, and no process is left behind.
+
+Every node whose package registers its class (:mod:`tether_bringup.node_group`) runs in
+the node group, unless the scene says ``compose: false``; the others (external simulators'
+bridges, test doubles, scripts) and the recorder run in processes of their own.
 """
 
 from __future__ import annotations
@@ -38,6 +42,10 @@ from tether_bringup.errors import BagError
 from tether_bringup.errors import RunDirectoryError
 from tether_bringup.errors import RunError
 from tether_bringup.graph_snapshot import write_graph
+from tether_bringup.node_group import GROUP_NAME
+from tether_bringup.node_group import node_classes
+from tether_bringup.node_group import read_cpu
+from tether_bringup.node_group import write_spec
 from tether_bringup.processes import ChildProcess
 from tether_bringup.recorder_params import DEFAULT_EXCLUDE
 from tether_bringup.scene import LOCKSTEP_WINDOW
@@ -68,6 +76,7 @@ class RunOptions:
     reports: tuple[str, ...] = ()
     title: str = ''
     lockstep_window: float = LOCKSTEP_WINDOW
+    compose: bool = True
 
 
 class _Stop(Exception):
@@ -114,14 +123,17 @@ def execute(nodes: list[NodeConfig], source, options: RunOptions) -> int:
                         'expected_nodes': [n.name for n in nodes] + ['tethersim'],
                         'exclude': list(options.exclude)}))
         children.append(recorder)
+        grouped = _grouped(nodes) if options.compose else []
         for config in nodes:
-            if config.external:
+            if config.external or config in grouped:
                 _write_params(out / 'params' / f'{config.name}.yaml', config)
             else:
                 children.append(_start(out, env, config))
+        if grouped:
+            children.append(_start_group(out, env, grouped))
         external = [config.name for config in nodes if config.external]
         waiting = f' and the external node(s) {", ".join(external)}' if external else ''
-        _progress(f'{options.title}: {len(children) - 1} node(s) started, '
+        _progress(f'{options.title}: {len(nodes) - len(external)} node(s) started in {len(children) - 1} process(es), '
                   f'waiting for the recorder{waiting} (ROS_DOMAIN_ID={env["ROS_DOMAIN_ID"]})')
         _wait_for(lambda: ready_file.exists(), EXTERNAL_READY_TIMEOUT if external else READY_TIMEOUT, children,
                   executor, lambda: 'the recorder did not subscribe to every node within {:.0f} s')
@@ -159,7 +171,7 @@ def execute(nodes: list[NodeConfig], source, options: RunOptions) -> int:
             signal.signal(sig, handler)
 
     wall = time.monotonic() - wall_start
-    lines = _summary(options, source, children, wall, failure, cpu)
+    lines = _summary(options, source, children, wall, failure, cpu, read_cpu(out / 'logs' / f'{GROUP_NAME}.cpu.yaml'))
     if recorder is not None and recorder.returncode not in (0, None) and status == 0:
         status = 1
     bag_dir = out / 'bag'
@@ -202,12 +214,29 @@ def _start(out: Path, env: dict[str, str], config: NodeConfig) -> ChildProcess:
     return ChildProcess(config.name, command, out / 'logs' / f'{config.name}.log', env)
 
 
+def _grouped(nodes: list[NodeConfig]) -> list[NodeConfig]:
+    """The nodes that run in the node group: started by the bringup, their class registered."""
+    classes = node_classes()
+    return [config for config in nodes if not config.external and (config.package, config.executable) in classes]
+
+
+def _start_group(out: Path, env: dict[str, str], grouped: list[NodeConfig]) -> ChildProcess:
+    spec = out / 'params' / f'{GROUP_NAME}.yaml'
+    write_spec(spec, out / 'logs' / f'{GROUP_NAME}.cpu.yaml', [
+        (config.name, config.package, config.executable, out / 'params' / f'{config.name}.yaml') for config in grouped])
+    program = Path(get_package_prefix('tether_bringup')) / 'lib' / 'tether_bringup' / GROUP_NAME
+    return ChildProcess(GROUP_NAME, [str(program), str(spec)], out / 'logs' / f'{GROUP_NAME}.log', env,
+                        members=tuple(config.name for config in grouped))
+
+
 def _check_children(children: list[ChildProcess]) -> None:
     for child in children:
         code = child.poll()
         if code is not None and not child.stop_requested:
             tail = '\n'.join(f'    {line}' for line in child.tail(10))
-            raise RunError(f'node {child.name} died with exit status {code}; last lines of {child.log_path}:\n{tail}')
+            which = f'node {child.name}' if child.members == (child.name,) else \
+                f'node group {child.name} ({", ".join(child.members)})'
+            raise RunError(f'{which} died with exit status {code}; last lines of {child.log_path}:\n{tail}')
 
 
 def _wait_for(condition, timeout: float, children, executor, message) -> None:
@@ -234,8 +263,8 @@ def _wait_for_barrier(barrier: Barrier, time_ns: int, children, executor) -> Non
         _check_children(children)
         if time.monotonic() - last_progress > STALL_TIMEOUT:
             behind = barrier.behind(time_ns)
-            tails = '\n'.join(f'    {line}' for child in children if f'/{child.name}' in behind
-                              for line in child.tail(5))
+            tails = '\n'.join(f'    {line}' for child in children
+                              if any(f'/{member}' in behind for member in child.members) for line in child.tail(5))
             raise RunError(f'lockstep stalled at sim time {time_ns / 1e9:.3f} s: no ack from '
                            f'{", ".join(behind)} within {STALL_TIMEOUT:.0f} s; last log lines:\n{tails}')
 
@@ -311,7 +340,13 @@ def _progress(text: str, interactive: bool = False) -> None:
     print(('\r' if interactive else '') + text, end='' if interactive else '\n', file=sys.stderr, flush=True)
 
 
-def _summary(options: RunOptions, source, children, wall: float, failure: str | None, cpu: RunCpu) -> list[str]:
+def _summary(options: RunOptions, source, children, wall: float, failure: str | None, cpu: RunCpu,
+             group_cpu: dict[str, float]) -> list[str]:
+    """The run's lines: what was simulated, and the CPU of each process.
+
+    Under the node group, each node's lockstep callbacks (``group_cpu``); the rest of the
+    group's CPU is taking messages.
+    """
     lines = [
         f'{options.title}',
         f'simulated {source.sim_time:.2f} s of {source.duration:.2f} s in {wall:.1f} s wall, start-up included; '
@@ -325,16 +360,30 @@ def _summary(options: RunOptions, source, children, wall: float, failure: str | 
     rows = [('tethersim', '-', own.ru_utime + own.ru_stime, own.ru_maxrss / 1024)]
     rows += [(child.name, '-' if child.returncode is None else str(child.returncode), child.cpu_time,
               child.peak_rss / 2**20) for child in children]
+    members = {child.name: child.members for child in children if child.members != (child.name,)}
     for name, code, cpu_s, rss in rows:
         rate = cpu.per_sim_second(name)
         lines.append(f'{name:<20} {code:>5} {cpu_s:8.2f} {"-" if rate is None else f"{rate:.3f}":>12} {rss:12.1f}')
-    rates = [rate for rate in (cpu.per_sim_second(name) for name, *_ in rows) if rate is not None]
-    if len(rates) == len(rows) and sum(rates) > 0:
-        total = sum(rates)
+        if name in members and group_cpu and cpu.sim_time > 0:
+            for member in members[name]:
+                seconds = group_cpu.get(member, 0.0)
+                lines.append(f'{"  " + member:<20} {"":>5} {seconds:8.2f} {seconds / cpu.sim_time:12.3f}')
+            if rate is not None:
+                rest = rate - sum(group_cpu.get(member, 0.0) for member in members[name]) / cpu.sim_time
+                lines.append(f'{"  taking messages":<20} {"":>5} {"":>8} {rest:12.3f}')
+    rates = {name: rate for name, rate in ((name, cpu.per_sim_second(name)) for name, *_ in rows) if rate is not None}
+    if len(rates) == len(rows) and sum(rates.values()) > 0:
+        total = sum(rates.values())
         cores = os.cpu_count() or 1
+        busiest = max(rates, key=rates.__getitem__)
+        ceiling = min(cores / total, 1.0 / rates[busiest])
         lines.append(f'{"total":<20} {"":>5} {"":>8} {total:12.3f} {"":>12}')
         lines.append(f'cpu s/sim s: CPU from the first tick to the last ack per simulated second (start-up and '
-                     f'shutdown excluded); {cores} cores allow at most {cores / total:.2f}x real time')
+                     f'shutdown excluded); {cores} cores allow at most {cores / total:.2f}x real time, and one '
+                     f'process at most one core: {busiest} allows {1.0 / rates[busiest]:.2f}x; ceiling {ceiling:.2f}x')
+        if members:
+            lines.append('the node group\'s rows under it: each node\'s lockstep callbacks (its ticks and what they '
+                         'publish); taking messages: the rest of the group\'s CPU')
     return lines
 
 

@@ -94,7 +94,8 @@ def _run(args: argparse.Namespace) -> int:
     with reserved_domain(args.domain_id) as domain_id:
         options = RunOptions(out_dir=args.out or _default_out(scene.name), domain_id=domain_id,
                              discovery=args.discovery, exclude=tuple(scene.exclude), reports=tuple(scene.reports),
-                             title=f'tethersim run {scene.name}', lockstep_window=scene.lockstep_window)
+                             title=f'tethersim run {scene.name}', lockstep_window=scene.lockstep_window,
+                             compose=scene.compose)
         return execute(scene.nodes, source, options)
 
 
@@ -121,15 +122,16 @@ def _replay(args: argparse.Namespace) -> int:
     if bag.damage:
         print(f'tethersim: warning: {bag.path} is damaged at {bag.damage_line()}; replaying its '
               f'{len(messages)} intact messages', file=sys.stderr, flush=True)
-    nodes, exclude, reports, name = [], list(DEFAULT_EXCLUDE), [], 'replay'
+    nodes, exclude, reports, name, compose = [], list(DEFAULT_EXCLUDE), [], 'replay', True
     if args.scene:
         scene = load_scene(find_scene(args.scene))
         nodes, exclude, reports, name = scene.nodes, scene.exclude, scene.reports, f'replay-{scene.name}'
+        compose = scene.compose
     source = BagPlayback(messages, topics, args.clock_step, args.rate)
     with reserved_domain(args.domain_id) as domain_id:
         options = RunOptions(out_dir=args.out or _default_out(name), domain_id=domain_id,
                              discovery=args.discovery, exclude=tuple(exclude), reports=tuple(reports),
-                             title=f'tethersim replay {bag.path.name}')
+                             title=f'tethersim replay {bag.path.name}', compose=compose)
         return execute(nodes, source, options)
 
 

@@ -26,8 +26,11 @@ def _die_with_parent() -> None:
 class ChildProcess:
     """One node process of a run."""
 
-    def __init__(self, name: str, command: list[str], log_path: Path, env: dict[str, str]) -> None:
+    def __init__(self, name: str, command: list[str], log_path: Path, env: dict[str, str],
+                 members: tuple[str, ...] = ()) -> None:
         self.name = name
+        self.members = members or (name,)
+        """The nodes the process runs (the node group runs several)."""
         self.command = command
         self.log_path = log_path
         log_path.parent.mkdir(parents=True, exist_ok=True)

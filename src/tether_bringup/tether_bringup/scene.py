@@ -7,6 +7,8 @@ A scene is YAML::
     rate: 1.0                 # real-time factor (10 = ten times faster than real time), or max
     clock_step: 0.01          # s of sim time between /clock ticks
     lockstep_window: 0.05     # s of sim time /clock may lead the slowest node's ack
+    compose: true             # nodes whose package registers their class run in one process
+                              # (tether_bringup.node_group); false: each node in its own process
     nodes:
       platform:               # node name
         package: psr_platform_sim
@@ -40,6 +42,7 @@ from ament_index_python.packages import get_package_prefix
 from ament_index_python.packages import get_package_share_directory
 
 from tether_bringup.errors import SceneError
+from tether_bringup.node_group import GROUP_NAME
 from tether_bringup.recorder_params import DEFAULT_EXCLUDE
 from tether_bringup.sim_clock import MAX_RATE
 from tether_common.parameters import ParamSpec
@@ -57,11 +60,14 @@ TOP_LEVEL = {
     'clock_step': ParamSpec('clock_step', 0.01, 'Sim time between /clock ticks', 's', 1e-4, 1.0),
     'lockstep_window': ParamSpec('lockstep_window', LOCKSTEP_WINDOW, 'Sim time /clock may lead the slowest node\'s ack '
                                  '(nodes on different cores overlap their ticks within it)', 's', 0.0, 0.1),
+    'compose': ParamSpec('compose', True, 'Run the nodes whose packages register their class in one process '
+                         '(the node group); false: each node in a process of its own'),
     'nodes': None,
     'record': None,
     'reports': ParamSpec('reports', [], 'Report functions module:function', item_type=str),
 }
 NODE_KEYS = ('package', 'executable', 'script', 'parameters', 'external', 'lockstep')
+RESERVED_NAMES = ('tethersim', 'recorder', GROUP_NAME)
 RECORD_KEYS = {'exclude': ParamSpec('exclude', [], 'Topics not recorded', item_type=str)}
 
 
@@ -90,6 +96,7 @@ class Scene:
     clock_step: float
     nodes: list[NodeConfig]
     lockstep_window: float = LOCKSTEP_WINDOW
+    compose: bool = True
     exclude: list[str] = field(default_factory=lambda: list(DEFAULT_EXCLUDE))
     reports: list[str] = field(default_factory=list)
 
@@ -189,7 +196,7 @@ def load_scene(path: str | Path) -> Scene:
 
     return Scene(path=path, name=path.stem, description=values['description'],
                  duration=values['duration'], rate=values['rate'], clock_step=values['clock_step'],
-                 lockstep_window=values['lockstep_window'],
+                 lockstep_window=values['lockstep_window'], compose=values['compose'],
                  nodes=nodes, exclude=exclude, reports=values['reports'])
 
 
@@ -197,6 +204,8 @@ def _node_config(path: Path, name: object, settings: object, fail) -> NodeConfig
     key = f'nodes.{name}'
     if not isinstance(name, str) or not name.replace('_', 'a').isalnum() or name[0].isdigit():
         raise fail(key, 'node names must be letters, digits and underscores, not starting with a digit')
+    if name in RESERVED_NAMES:
+        raise fail(key, f'{name!r} names a process of the bringup itself (reserved: {", ".join(RESERVED_NAMES)})')
     if not isinstance(settings, dict):
         raise fail(key, 'expected a mapping with package/executable or script, and parameters')
     for setting in settings:

@@ -83,6 +83,16 @@ JOIN_SETTLE = 0.5
 STALL_LOG_PERIOD = 5.0
 INPUT_DEPTH = 100
 NS = 1_000_000_000
+_CALLBACK_CPU: dict[str, float] = {}
+
+
+def callback_cpu() -> dict[str, float]:
+    """Thread CPU time (s) each lockstep node of this process has spent handling ``/clock`` and its
+    inputs: selecting them, running its ticks and publishing what they produce. It leaves out what the
+    executor spends taking messages and converting them before the callbacks; the node group
+    (``tether_bringup``) reports it per node.
+    """
+    return dict(_CALLBACK_CPU)
 
 
 def run_end() -> float | None:
@@ -239,6 +249,7 @@ class Lockstep:
         self._ready_since = None
         self._expected_nodes = {name for name in os.environ.get(NODES_VARIABLE, '').split(',') if name}
         self._recorder_ready = os.environ.get(RECORDER_READY_VARIABLE, '')
+        _CALLBACK_CPU.setdefault(self._name, 0.0)
         self._ack_pub = node.create_publisher(LockstepAck, ACK_TOPIC, LOCKSTEP_ACK)
         self._clock_sub = node.create_subscription(ClockMsg, '/clock', self._on_clock, CLOCK)
         steady = Clock(clock_type=ClockType.STEADY_TIME)
@@ -278,12 +289,16 @@ class Lockstep:
         return stream
 
     def _on_clock(self, msg: ClockMsg) -> None:
+        start = time.thread_time()
         self._clock_ns = max(self._clock_ns, stamp_ns(msg.clock))
         self._advance()
+        _CALLBACK_CPU[self._name] += time.thread_time() - start
 
     def _on_input(self, stream: _Stream, msg) -> None:
+        start = time.thread_time()
         stream.add(msg)
         self._advance()
+        _CALLBACK_CPU[self._name] += time.thread_time() - start
 
     def _advance(self) -> None:
         tasks = self._tasks

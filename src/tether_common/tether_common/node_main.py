@@ -65,40 +65,57 @@ def run_node(factory: Callable[[], Node], args: list[str] | None = None,
 
     ``executor`` makes the executor that spins it (default: :func:`make_executor`).
     """
+    return run_nodes({Path(sys.argv[0]).name: factory}, args, executor)
+
+
+def run_nodes(factories: dict[str, Callable[[], Node]], args: list[str] | None = None,
+              executor: Callable[[], Executor] | None = None) -> int:
+    """Build each node (name: factory, in order) in this process and spin them all on one executor.
+
+    A node that cannot be built is reported under its name (``<name>: error: ...``); an
+    error while they spin, under the program's. One executor for several nodes: a message
+    between two of them is delivered inside the process by Fast DDS (``tether_bringup``'s
+    node group).
+    """
     program = Path(sys.argv[0]).name
     refused = _init(args)
     if refused:
         print(f'{program}: error: invalid --ros-args: {refused}', file=sys.stderr, flush=True)
         return 2
-    node = None
+    nodes: list[Node] = []
     status = 0
+    building = program
     try:
-        node = factory()
-        executor = executor() if executor is not None else make_executor()
-        executor.add_node(node)
-        with _profiled(node):
+        for name, factory in factories.items():
+            building = name
+            nodes.append(factory())
+        building = program
+        spinner = executor() if executor is not None else make_executor()
+        for node in nodes:
+            spinner.add_node(node)
+        with _profiled(nodes[0].get_name() if len(nodes) == 1 else program):
             while rclpy.ok():
-                executor.spin_once(timeout_sec=SPIN_TIMEOUT)
+                spinner.spin_once(timeout_sec=SPIN_TIMEOUT)
     except (KeyboardInterrupt, ExternalShutdownException):
         pass
     except (ConfigurationError, ParameterException) as error:
-        print(f'{program}: error: {error}', file=sys.stderr, flush=True)
+        print(f'{building}: error: {error}', file=sys.stderr, flush=True)
         status = 2
     except Exception:
         if rclpy.ok():
             raise
-        # SIGTERM shut the context down while the node was being built: the rcl call that
+        # SIGTERM shut the context down while a node was being built: the rcl call that
         # failed on the dead context is the normal end, not an error
     finally:
-        if node is not None:
+        for node in nodes:
             node.destroy_node()
         rclpy.try_shutdown()
     return status
 
 
 @contextmanager
-def _profiled(node: Node):
-    """Profile the spin (CPU time) with cProfile into ``$TETHERSIM_PROFILE/<node name>.prof`` when that variable is set."""
+def _profiled(name: str):
+    """Profile the spin (CPU time) with cProfile into ``$TETHERSIM_PROFILE/<name>.prof`` when that variable is set."""
     directory = os.environ.get(PROFILE_VARIABLE)
     if not directory:
         yield
@@ -110,7 +127,7 @@ def _profiled(node: Node):
     finally:
         profile.disable()
         Path(directory).mkdir(parents=True, exist_ok=True)
-        profile.dump_stats(str(Path(directory) / f'{node.get_name()}.prof'))
+        profile.dump_stats(str(Path(directory) / f'{name}.prof'))
 
 
 def _init(args: list[str] | None) -> str | None:

@@ -124,8 +124,8 @@ def plant_config(params: dict, initial_length: float) -> PlantConfig:
 class PlantNode(Node):
     """Steps the tether plant on stamped inputs and publishes its state, wrench, truth and markers."""
 
-    def __init__(self) -> None:
-        super().__init__('plant')
+    def __init__(self, **options) -> None:
+        super().__init__('plant', **options)
         try:
             self.params = declare_parameters(self, PARAMETERS)
         except ValueError as error:

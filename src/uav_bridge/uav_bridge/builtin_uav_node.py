@@ -70,8 +70,8 @@ from uav_bridge.ros_fill import pose_and_twist
 class BuiltinUavNode(Node):
     """Steps the built-in UAV on sim time and answers the bridge's services."""
 
-    def __init__(self) -> None:
-        super().__init__('builtin_uav')
+    def __init__(self, **options) -> None:
+        super().__init__('builtin_uav', **options)
         try:
             params = declare_parameters(self, PARAMETERS)
             for name in ('inertia', 'attach_offset', 'start', 'pad'):

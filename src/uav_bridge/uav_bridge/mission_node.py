@@ -83,8 +83,8 @@ def land_time(params: dict, end: float | None) -> float:
 class MissionNode(Node):
     """Steps the mission logic and carries out its requests."""
 
-    def __init__(self) -> None:
-        super().__init__('mission')
+    def __init__(self, **options) -> None:
+        super().__init__('mission', **options)
         try:
             params = declare_parameters(self, PARAMETERS)
             if len(params['pad']) != 2:
