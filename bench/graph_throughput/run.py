@@ -28,9 +28,10 @@ bag and the run's ``graph.yaml``: published plus taken (each topic it subscribes
 lockstep node also both ``/clock`` subscriptions and one ack per ``/clock``; every recorded
 message and one ack per ``/clock`` for the recorder; ``/clock`` and the acks for the time
 master ``tethersim``; the node group's, those of its nodes added up), CPU per message and CPU
-per simulated second; per stage the achieved real-time factor and the CPU-bound ceiling
-(cores / total CPU per simulated second, and no more than one core per process: 1 / the
-busiest process's), which does not depend on what else loads the machine. Writes
+per simulated second; per stage the achieved real-time factor and the CPU-bound ceiling the
+run summary prints (cores / total CPU per simulated second, and no more than one core for a
+process's main thread, the one that runs Python: 1 / the busiest main thread's CPU per
+simulated second), which does not depend on what else loads the machine. Writes
 ``summary.txt`` and ``table.csv`` to --out.
 
 Run:  ./tethersim-env python bench/graph_throughput/run.py [--duration 10] [--scene NAME] [--out DIR]
@@ -116,18 +117,20 @@ def scene_nodes(name: str) -> dict:
     return nodes
 
 
-def _summary(run_dir: Path) -> tuple[float, float, dict[str, float]]:
-    """Achieved real-time factor, simulated time and CPU s per simulated s of each process from summary.txt
-    (the node group's own row, not the rows of its nodes under it).
+def _summary(run_dir: Path) -> tuple[float, float, float, dict[str, float]]:
+    """Achieved real-time factor, simulated time, the CPU-bound ceiling and CPU s per simulated s of each
+    process from summary.txt (the node group's own row, not the rows of its nodes under it).
     """
     lines = (run_dir / 'summary.txt').read_text().splitlines()
-    rate = sim = None
+    rate = sim = ceiling = None
     cpu = {}
     in_table = False
     for line in lines:
         if 'achieved real-time factor' in line:
             sim = float(line.split('simulated ')[1].split(' s')[0])
             rate = float(line.split('achieved real-time factor ')[1].split()[0])
+        elif line.startswith('cpu s/sim s:'):
+            ceiling = float(line.rpartition('ceiling ')[2].rstrip('x'))
         elif line.startswith('node '):
             in_table = True
         elif in_table and line.startswith('total'):
@@ -135,7 +138,7 @@ def _summary(run_dir: Path) -> tuple[float, float, dict[str, float]]:
         elif in_table and len(line.split()) == 5:
             name, _, _, per_sim_second, _ = line.split()
             cpu[name] = float(per_sim_second)
-    return rate, sim, cpu
+    return rate, sim, ceiling, cpu
 
 
 def _messages(run_dir: Path, nodes: list[str], group: tuple[str, ...]) -> dict[str, int]:
@@ -158,8 +161,9 @@ def _messages(run_dir: Path, nodes: list[str], group: tuple[str, ...]) -> dict[s
     return handled
 
 
-def run_stage(out: Path, label: str, nodes: dict, config: str, duration: float) -> tuple[float, list[NodeRow]]:
-    """Run one stage with one configuration; return the real-time factor and the per-process rows."""
+def run_stage(out: Path, label: str, nodes: dict, config: str,
+              duration: float) -> tuple[float, float, list[NodeRow]]:
+    """Run one stage with one configuration; return the real-time factor, the ceiling and the per-process rows."""
     slug = f'{label.strip("+ ").replace(" ", "-")}-{config}'
     run_dir = out / slug
     scene = out / f'{slug}.yaml'
@@ -169,11 +173,11 @@ def run_stage(out: Path, label: str, nodes: dict, config: str, duration: float) 
                             env=env, capture_output=True, text=True, timeout=3600)
     if result.returncode != 0:
         raise SystemExit(f'graph_throughput: stage {label} ({config}) failed:\n{result.stderr[-2000:]}')
-    rate, sim, cpu = _summary(run_dir)
+    rate, sim, ceiling, cpu = _summary(run_dir)
     group = tuple(node for node in nodes if node not in cpu)
     handled = _messages(run_dir, list(nodes), group)
     rows = [NodeRow(label, config, name, cpu[name], handled[name], sim) for name in cpu]
-    return rate, rows
+    return rate, ceiling, rows
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -187,12 +191,13 @@ def main(argv: list[str] | None = None) -> int:
     scene = args.scene or next(name for name in FULLEST_SCENES if _installed(name))
     stages = dict(STAGES, **{f'scene {scene}': scene_nodes(scene)})
     rates: dict[tuple[str, str], float] = {}
+    ceilings: dict[tuple[str, str], float] = {}
     rows: list[NodeRow] = []
     for label, nodes in stages.items():
         for config in CONFIGS:
             print(f'stage {label:<22} {config:<7} ...', file=sys.stderr, flush=True)
-            rate, stage_rows = run_stage(args.out, label, nodes, config, args.duration)
-            rates[label, config] = rate
+            rate, ceiling, stage_rows = run_stage(args.out, label, nodes, config, args.duration)
+            rates[label, config], ceilings[label, config] = rate, ceiling
             rows += stage_rows
 
     cores = os.cpu_count() or 1
@@ -203,14 +208,11 @@ def main(argv: list[str] | None = None) -> int:
                          + ('node group' if c['compose'] else 'a process per node') for name, c in CONFIGS.items()),
              '',
              'achieved real-time factor (RTF) and its CPU-bound ceiling (min of cores / total CPU per simulated '
-             'second and 1 / the busiest process\'s)',
+             'second and 1 / the busiest main thread\'s, as the run summary prints it)',
              f'{"stage":<24} {"topics":>6} ' + ' '.join(f'{"RTF " + n:>11} {"ceil " + n:>11}' for n in names)]
     for label in stages:
         topics = len(read_bag(args.out / f'{label.strip("+ ").replace(" ", "-")}-after' / 'bag').topics)
-        cells = []
-        for name in names:
-            rates_of = [r.cpu_per_sim_second for r in rows if r.stage == label and r.config == name]
-            cells.append(f'{rates[label, name]:11.2f} {min(cores / sum(rates_of), 1 / max(rates_of)):11.2f}')
+        cells = [f'{rates[label, name]:11.2f} {ceilings[label, name]:11.2f}' for name in names]
         lines.append(f'{label:<24} {topics:>6} ' + ' '.join(cells))
     lines += ['', 'CPU per message (us) and CPU per simulated second (s/s) per process',
               f'{"stage":<24} {"config":<7} {"process":<10} {"msgs":>8} {"us/msg":>8} {"s/s":>7}']

@@ -78,10 +78,13 @@ class ChildProcess:
             self.wait(5.0)
         self._log.close()
 
-    def cpu_now(self) -> float | None:
-        """CPU seconds (user + system) the running child has used so far, from ``/proc``; None once it has exited."""
+    def cpu_now(self, main_thread: bool = False) -> float | None:
+        """CPU seconds (user + system) the running child (or its main thread) has used so far, from ``/proc``;
+        None once it has exited.
+        """
+        path = f'/proc/{self.pid}/task/{self.pid}/stat' if main_thread else f'/proc/{self.pid}/stat'
         try:
-            fields = Path(f'/proc/{self.pid}/stat').read_text().rpartition(')')[2].split()
+            fields = Path(path).read_text().rpartition(')')[2].split()
         except OSError:
             return None
         return (int(fields[11]) + int(fields[12])) / _CLOCK_TICKS
