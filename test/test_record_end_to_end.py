@@ -77,7 +77,7 @@ def test_summary_gives_each_process_cpu_per_simulated_second_and_their_total(rec
     ceiling = lines[lines.index(next(line for line in lines if line.startswith('total'))) + 1]
     assert float(ceiling.split('allow at most ')[1].split('x')[0]) == pytest.approx((os.cpu_count() or 1) / total,
                                                                                     rel=0.01), ceiling
-    busiest, main = ceiling.split('runs on one core at most: ')[1].split(' CPU s per sim s')[0].split("'s, ")
+    busiest, main = ceiling.split('runs on one core at most: the busiest, ')[1].split(' CPU s per sim s')[0].split(' at ')
     assert 0 < float(main) <= rows[busiest][1] + 0.002, ceiling  # the main thread is a part of its process
     allows = float(ceiling.split(' allows ')[1].split('x')[0])
     assert allows == pytest.approx(1 / float(main), rel=0.02), ceiling

@@ -387,8 +387,8 @@ def _summary(options: RunOptions, source, children, wall: float, failure: str | 
         lines.append(f'{"total":<20} {"":>5} {"":>8} {total:12.3f} {"":>12}')
         lines.append(f'cpu s/sim s: CPU from the first tick to the last ack per simulated second (start-up and '
                      f'shutdown excluded); {cores} cores allow at most {cores / total:.2f}x real time; a process\'s '
-                     f'main thread (Python) runs on one core at most: {busiest}\'s, {mains[busiest]:.3f} CPU s per '
-                     f'sim s, allows {allows:.2f}x; ceiling {ceiling:.2f}x')
+                     f'main thread (Python) runs on one core at most: the busiest, {busiest} at {mains[busiest]:.3f} '
+                     f'CPU s per sim s, allows {allows:.2f}x; ceiling {ceiling:.2f}x')
         if members:
             lines.append('the node group\'s rows under it: each node\'s lockstep callbacks (its ticks and what they '
                          'publish); executor and DDS: the rest (rclpy taking and converting messages, Fast DDS\'s threads)')
