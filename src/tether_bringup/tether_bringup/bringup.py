@@ -118,16 +118,16 @@ def execute(nodes: list[NodeConfig], source, options: RunOptions) -> int:
     try:
         source.attach(node)
         recorder = _start(out, env, NodeConfig(
-            name='recorder', command=[_recorder_program()],
+            name='recorder', command=[_bringup_program('recorder')],
             parameters={'bag_directory': str(out / 'bag'), 'ready_file': str(ready_file),
                         'expected_nodes': [n.name for n in nodes] + ['tethersim'],
                         'exclude': list(options.exclude)}))
         children.append(recorder)
         grouped = _grouped(nodes) if options.compose else []
         for config in nodes:
-            if config.external or config in grouped:
-                _write_params(out / 'params' / f'{config.name}.yaml', config)
-            else:
+            if config.external:
+                _write_params(out, config)
+            elif config not in grouped:
                 children.append(_start(out, env, config))
         if grouped:
             children.append(_start_group(out, env, grouped))
@@ -197,19 +197,22 @@ def execute(nodes: list[NodeConfig], source, options: RunOptions) -> int:
     return status
 
 
-def _recorder_program() -> str:
-    return str(Path(get_package_prefix('tether_bringup')) / 'lib' / 'tether_bringup' / 'recorder')
+def _bringup_program(name: str) -> str:
+    """Path of one of tether_bringup's own executables (the recorder, the node group)."""
+    return str(Path(get_package_prefix('tether_bringup')) / 'lib' / 'tether_bringup' / name)
 
 
-def _write_params(path: Path, config: NodeConfig) -> None:
+def _write_params(out: Path, config: NodeConfig) -> Path:
+    """Write the node's parameter file into the run directory; return its path."""
+    path = out / 'params' / f'{config.name}.yaml'
     path.parent.mkdir(parents=True, exist_ok=True)
     params = {'/**': {'ros__parameters': {**config.parameters, 'use_sim_time': config.name != 'recorder'}}}
     path.write_text(yaml.safe_dump(params, sort_keys=False))
+    return path
 
 
 def _start(out: Path, env: dict[str, str], config: NodeConfig) -> ChildProcess:
-    params_file = out / 'params' / f'{config.name}.yaml'
-    _write_params(params_file, config)
+    params_file = _write_params(out, config)
     command = config.command + ['--ros-args', '-r', f'__node:={config.name}', '--params-file', str(params_file)]
     return ChildProcess(config.name, command, out / 'logs' / f'{config.name}.log', env)
 
@@ -223,9 +226,8 @@ def _grouped(nodes: list[NodeConfig]) -> list[NodeConfig]:
 def _start_group(out: Path, env: dict[str, str], grouped: list[NodeConfig]) -> ChildProcess:
     spec = out / 'params' / f'{GROUP_NAME}.yaml'
     write_spec(spec, out / 'logs' / f'{GROUP_NAME}.cpu.yaml', [
-        (config.name, config.package, config.executable, out / 'params' / f'{config.name}.yaml') for config in grouped])
-    program = Path(get_package_prefix('tether_bringup')) / 'lib' / 'tether_bringup' / GROUP_NAME
-    return ChildProcess(GROUP_NAME, [str(program), str(spec)], out / 'logs' / f'{GROUP_NAME}.log', env,
+        (config.name, config.package, config.executable, _write_params(out, config)) for config in grouped])
+    return ChildProcess(GROUP_NAME, [_bringup_program(GROUP_NAME), str(spec)], out / 'logs' / f'{GROUP_NAME}.log', env,
                         members=tuple(config.name for config in grouped))
 
 
@@ -366,8 +368,9 @@ def _summary(options: RunOptions, source, children, wall: float, failure: str | 
     rows += [(child.name, '-' if child.returncode is None else str(child.returncode), child.cpu_time,
               child.peak_rss / 2**20) for child in children]
     members = {child.name: child.members for child in children if child.members != (child.name,)}
+    rates = {name: cpu.per_sim_second(name) for name, *_ in rows}
     for name, code, cpu_s, rss in rows:
-        rate = cpu.per_sim_second(name)
+        rate = rates[name]
         lines.append(f'{name:<20} {code:>5} {cpu_s:8.2f} {"-" if rate is None else f"{rate:.3f}":>12} {rss:12.1f}')
         if name in members and group_cpu and cpu.sim_time > 0:
             for member in members[name]:
@@ -376,11 +379,11 @@ def _summary(options: RunOptions, source, children, wall: float, failure: str | 
             if rate is not None:
                 rest = rate - sum(group_cpu.get(member, 0.0) for member in members[name]) / cpu.sim_time
                 lines.append(f'{"  executor and DDS":<20} {"":>5} {"":>8} {rest:12.3f}')
-    rates = {name: rate for name, rate in ((name, cpu.per_sim_second(name)) for name, *_ in rows) if rate is not None}
-    if len(rates) == len(rows) and sum(rates.values()) > 0:
-        total = sum(rates.values())
+    measured = {name: rate for name, rate in rates.items() if rate is not None}
+    if len(measured) == len(rows) and sum(measured.values()) > 0:
+        total = sum(measured.values())
         cores = os.cpu_count() or 1
-        mains = {name: cpu.per_sim_second(name, main_thread=True) or 0.0 for name in rates}
+        mains = {name: cpu.per_sim_second(name, main_thread=True) or 0.0 for name in measured}
         busiest = max(mains, key=mains.__getitem__)
         allows = 1.0 / max(mains[busiest], 1e-9)
         ceiling = min(cores / total, allows)

@@ -62,7 +62,11 @@ def _factory(entry: EntryPoint, name: str, params_file: str):
 
 
 def main() -> None:
-    """Run the nodes of the spec file given as the only argument."""
+    """Run the nodes of the spec file given as the only argument.
+
+    rclpy is imported here, not with the module: scene validation reads :data:`GROUP_NAME`
+    without loading ROS.
+    """
     from tether_common.lockstep import callback_cpu
     from tether_common.node_main import run_nodes
     if len(sys.argv) != 2:
