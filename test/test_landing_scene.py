@@ -15,7 +15,7 @@ import pytest
 
 from tether_bringup.bag_reader import read_bag
 from tether_common.lockstep import stamp_ns
-from tether_dynamics.plant.ends import quaternion_rotation
+from tether_common.rotation import quaternion_rotation
 from tether_dynamics.statics.reference_length import reference_length
 
 from tethersim_testing import tethersim

@@ -104,7 +104,7 @@ class EstimatorNode(Node):
         msg.header.stamp = stamp
         msg.header.frame_id = 'world'
         msg.dz, msg.dz_rate, msg.dz_accel, msg.accel_bias_reel, msg.accel_bias_uav = (float(v) for v in est.x)
-        msg.covariance = [float(v) for v in est.P.ravel()]
+        msg.covariance = est.P.ravel().tolist()
         msg.horizontal.x, msg.horizontal.y = float(est.horizontal[0]), float(est.horizontal[1])
         msg.initialized = est.initialized
         msg.radial = est.radial

@@ -19,7 +19,6 @@ from dataclasses import dataclass
 from dataclasses import field
 
 import numpy as np
-from scipy.spatial.transform import Rotation
 
 from relpos_estimator.actuator import StepperVibration
 from relpos_estimator.dgps import DgpsConfig
@@ -29,6 +28,7 @@ from relpos_estimator.dgps import Fix
 from relpos_estimator.imu import ImuModel
 from relpos_estimator.imu import imu_class
 from relpos_estimator.imu import specific_force
+from tether_common.rotation import matrix_to_quaternion
 
 
 @dataclass
@@ -107,7 +107,7 @@ class SensorSuite:
         vib = self.vibration.step(truth.slider_velocity, self.dt) if self.config.vibration_amplitude > 0 else 0.0
         reel_force = specific_force(truth.reel_rotation, truth.reel_acceleration) + np.array([0.0, 0.0, vib])
         gyro, accel = self.reel_imu.measure(truth.reel_angular_velocity, reel_force)
-        reel = ImuSample(t, Rotation.from_matrix(truth.reel_rotation).as_quat(), gyro, accel)
+        reel = ImuSample(t, matrix_to_quaternion(truth.reel_rotation), gyro, accel)
         uav_acceleration = truth.reel_acceleration + truth.relative_acceleration
         gyro, accel = self.uav_imu.measure(np.zeros(3), specific_force(np.eye(3), uav_acceleration))
         uav = ImuSample(t, np.array([0.0, 0.0, 0.0, 1.0]), gyro, accel)

@@ -42,7 +42,6 @@ from rclpy.node import Node
 from rclpy.qos import HistoryPolicy
 from rclpy.qos import QoSProfile
 from rclpy.qos import ReliabilityPolicy
-from scipy.spatial.transform import Rotation
 from sensor_msgs.msg import Imu
 from tether_msgs.msg import DgpsFix
 from tether_msgs.msg import PlatformState
@@ -66,6 +65,8 @@ from tether_common.lockstep import Lockstep
 from tether_common.lockstep import Tick
 from tether_common.qos import SENSOR
 from tether_common.qos import STATE
+from tether_common.rotation import quaternion_rotation
+from tether_common.rotation import rotation_vector_between
 from tether_common.ros_parameters import declare_parameters
 
 INPUT_DEPTH = 1000
@@ -140,9 +141,9 @@ class SensorsNode(Node):
         if any(p is None for p in poses) or slider is None:
             return None
         positions = [p for p, _ in poses]
-        rotations = Rotation.from_quat([q for _, q in poses])
+        quaternions = [q for _, q in poses]
         acceleration = (positions[2] - 2.0 * positions[1] + positions[0]) / self.dt**2
-        angular_velocity = (rotations[0].inv() * rotations[2]).as_rotvec() / (2.0 * self.dt)
+        angular_velocity = rotation_vector_between(quaternions[0], quaternions[2]) / (2.0 * self.dt)
         if self.params['truth'] == 'plant':
             relative = self.relative.get(t_ns)
             if relative is None:
@@ -153,7 +154,8 @@ class SensorsNode(Node):
             rel_position = np.asarray(self.params['surrogate_position']) - positions[1]
             rel_velocity = -(positions[2] - positions[0]) / (2.0 * self.dt)
             rel_acceleration = -acceleration
-        return Truth(rotations[1].as_matrix(), angular_velocity, acceleration, rel_position, rel_acceleration,
+        reel_rotation = quaternion_rotation(quaternions[1], '/platform/reel_pose').matrix
+        return Truth(reel_rotation, angular_velocity, acceleration, rel_position, rel_acceleration,
                      slider, rel_velocity)
 
     def forget(self, before_ns: int) -> None:
@@ -213,9 +215,14 @@ def imu_message(sample: ImuSample, frame: str, spec: ImuSpec) -> Imu:
     msg.angular_velocity.x, msg.angular_velocity.y, msg.angular_velocity.z = (float(v) for v in sample.gyro)
     a = msg.linear_acceleration
     a.x, a.y, a.z = (float(v) for v in sample.accel)
-    msg.angular_velocity_covariance = list(np.diag(np.full(3, spec.gyro_noise**2)).ravel())
-    msg.linear_acceleration_covariance = list(np.diag(np.full(3, spec.accel_noise**2)).ravel())
+    msg.angular_velocity_covariance = _diagonal(spec.gyro_noise**2)
+    msg.linear_acceleration_covariance = _diagonal(spec.accel_noise**2)
     return msg
+
+
+def _diagonal(variance: float) -> list[float]:
+    """Row-major 3 x 3 covariance with ``variance`` on the diagonal."""
+    return [variance, 0.0, 0.0, 0.0, variance, 0.0, 0.0, 0.0, variance]
 
 
 def main(args=None):

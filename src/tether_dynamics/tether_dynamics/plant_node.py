@@ -62,7 +62,7 @@ from tether_dynamics.plant import ReelConfig
 from tether_dynamics.plant import TetherPlant
 from tether_dynamics.plant import UavConfig
 from tether_dynamics.plant.ends import point_on_body
-from tether_dynamics.plant.ends import quaternion_rotation
+from tether_common.rotation import quaternion_rotation
 from tether_dynamics.plant_markers import scene_markers
 from tether_dynamics.plant_params import PARAMETERS
 from tether_dynamics.scripted_reel import ScriptedReel

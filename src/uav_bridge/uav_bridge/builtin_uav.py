@@ -26,7 +26,7 @@ import numpy as np
 
 from tether_dynamics.plant import bodies
 from tether_dynamics.plant.ends import cross
-from tether_dynamics.plant.ends import quaternion_rotation
+from tether_common.rotation import quaternion_rotation
 from uav_bridge.multirotor_control import StationController
 from uav_bridge.multirotor_control import UavBodyState
 

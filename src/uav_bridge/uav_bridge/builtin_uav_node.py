@@ -38,7 +38,6 @@ from geometry_msgs.msg import PoseStamped
 from geometry_msgs.msg import TwistStamped
 from geometry_msgs.msg import WrenchStamped
 from rclpy.node import Node
-from scipy.spatial.transform import Rotation
 from sensor_msgs.msg import Imu
 from std_srvs.srv import SetBool
 from std_srvs.srv import Trigger
@@ -58,7 +57,7 @@ from tether_common.lockstep import Input
 from tether_common.lockstep import Lockstep
 from tether_common.lockstep import Tick
 from tether_common.lockstep import period_ns
-from tether_dynamics.plant.ends import quaternion_rotation
+from tether_common.rotation import quaternion_rotation
 from uav_bridge.builtin_uav import BuiltinUav
 from uav_bridge.builtin_uav import BuiltinUavConfig
 from uav_bridge.builtin_uav_params import PARAMETERS
@@ -131,7 +130,7 @@ class BuiltinUavNode(Node):
             [wrench.wrench.force.x, wrench.wrench.force.y, wrench.wrench.force.z])
         state = self.uav.step(tick.time_ns * 1e-9, force, self.pad_in_world(tick.inputs.get('/platform/reel_pose')))
         stamp = tick.stamp
-        rotation = Rotation.from_quat(state.quaternion)
+        rotation = quaternion_rotation(state.quaternion, 'the UAV attitude')
         pose, twist = pose_and_twist(stamp, state.position, state.quaternion, state.velocity,
                                      rotation.apply(state.angular_velocity))
         self.pose_pub.publish(pose)
@@ -142,7 +141,7 @@ class BuiltinUavNode(Node):
         fill_vector(imu.angular_velocity, state.angular_velocity)
         specific_force = state.acceleration + [0.0, 0.0, self.uav.config.gravity] if state.armed else \
             np.array([0.0, 0.0, self.uav.config.gravity])
-        fill_vector(imu.linear_acceleration, rotation.inv().apply(specific_force))
+        fill_vector(imu.linear_acceleration, rotation.apply_inverse(specific_force))
         self.imu_pub.publish(imu)
         if tick.time_ns % self.state_period_ns == 0:
             msg = UavState()

@@ -28,7 +28,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from tether_dynamics.plant.ends import cross
-from tether_dynamics.plant.ends import quaternion_rotation
+from tether_common.rotation import quaternion_rotation
 
 E3 = np.array([0.0, 0.0, 1.0])
 

@@ -6,9 +6,10 @@ import math
 
 import numpy as np
 
+from tether_common.rotation import quaternion_rotation
 from tether_dynamics.plant import bodies, quasi_static
 from tether_dynamics.plant.config import PlantConfig
-from tether_dynamics.plant.ends import Sample, cross, hermite, hermite_table, point_on_body, quaternion_rotation
+from tether_dynamics.plant.ends import Sample, cross, hermite, hermite_table, point_on_body
 from tether_dynamics.plant.io import PlantInputs, PlantOutputs
 
 
