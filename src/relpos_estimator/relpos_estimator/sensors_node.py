@@ -6,7 +6,8 @@ A thin wrapper around :class:`relpos_estimator.sensors.SensorSuite`. Inputs (tru
   attitude; its acceleration and angular velocity at tick t come from the poses at t - dt,
   t, t + dt (central differences), so tick t is simulated one tick after its pose arrived;
 * ``/platform/state`` (tether_msgs/PlatformState): the slider speeds driving the stepper
-  vibration;
+  vibration, subscribed only when ``vibration_amplitude`` > 0 (without the vibration the
+  speeds are not used);
 * ``/truth/relative`` (tether_msgs/RelativePosition) with ``truth: plant``; with
   ``truth: surrogate`` the UAV attachment is fixed in ``world`` at ``surrogate_position``
   (the UAV surrogate of Sec. 5.1) and the relative position is that minus the reel's.
@@ -71,6 +72,8 @@ from tether_common.ros_parameters import declare_parameters
 
 INPUT_DEPTH = 1000
 """Subscription history of the unpaced inputs (fixes) and of test probes: nothing is lost while a consumer lags."""
+STILL = np.zeros(3)
+"""Slider speeds (m/s) without the stepper vibration."""
 STATE_INPUT = QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=INPUT_DEPTH, reliability=ReliabilityPolicy.RELIABLE,
                          durability=STATE.durability)
 
@@ -97,8 +100,10 @@ class SensorsNode(Node):
         self.poses: dict[int, tuple[np.ndarray, np.ndarray]] = {}
         self.sliders: dict[int, np.ndarray] = {}
         self.relative: dict[int, tuple[np.ndarray, np.ndarray]] = {}
-        inputs = [Input('/platform/reel_pose', PoseStamped, self.dt),
-                  Input('/platform/state', PlatformState, self.dt, self.dt)]
+        inputs = [Input('/platform/reel_pose', PoseStamped, self.dt)]
+        self.vibrating = self.params['vibration_amplitude'] > 0.0
+        if self.vibrating:
+            inputs.append(Input('/platform/state', PlatformState, self.dt, self.dt))
         if self.params['truth'] == 'plant':
             inputs.append(Input('/truth/relative', RelativePosition, self.dt, self.dt))
             self.truth_pub = None
@@ -117,7 +122,7 @@ class SensorsNode(Node):
         if pose is not None:
             p, q = pose.pose.position, pose.pose.orientation
             self.poses[stamp_ns(pose.header.stamp)] = (np.array([p.x, p.y, p.z]), np.array([q.x, q.y, q.z, q.w]))
-        state = tick.inputs['/platform/state']
+        state = tick.inputs.get('/platform/state')
         if state is not None:
             self.sliders[stamp_ns(state.header.stamp)] = np.array(state.slider_velocity, dtype=float)
         relative = tick.inputs.get('/truth/relative')
@@ -137,7 +142,7 @@ class SensorsNode(Node):
         poses = [self.poses.get(t_ns + k * d) for k in (-1, 0, 1)]
         if poses[0] is None and t_ns == d:
             poses[0] = poses[1]  # before its first tick the platform rests at its first pose (profile ramp)
-        slider = self.sliders.get(t_ns)
+        slider = self.sliders.get(t_ns) if self.vibrating else STILL
         if any(p is None for p in poses) or slider is None:
             return None
         positions = [p for p, _ in poses]
