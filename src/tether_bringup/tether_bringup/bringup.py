@@ -59,7 +59,7 @@ from tether_common.node_main import make_executor
 READY_TIMEOUT = 180.0
 """Start-up: nine Python node processes importing numpy, scipy and rclpy on a loaded 2-core machine take minutes."""
 STALL_TIMEOUT = 120.0
-"""No ack from anyone for this long ends the run: a first tick may JIT-compile a solver (numba) under load."""
+"""No ack from anyone for this long ends the run: generous, for ticks on a loaded machine with every core busy."""
 EXTERNAL_READY_TIMEOUT = 600.0
 CLOCK_SUBSCRIBER_TIMEOUT = 30.0
 PROGRESS_PERIOD = 0.5

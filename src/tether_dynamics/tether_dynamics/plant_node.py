@@ -62,6 +62,7 @@ from tether_dynamics.plant import ReelConfig
 from tether_dynamics.plant import TetherPlant
 from tether_dynamics.plant import UavConfig
 from tether_dynamics.plant.ends import point_on_body
+from tether_dynamics.plant.plant import warm_up
 from tether_common.rotation import quaternion_rotation
 from tether_dynamics.plant_markers import scene_markers
 from tether_dynamics.plant_params import PARAMETERS
@@ -135,7 +136,7 @@ class PlantNode(Node):
         self.markers_every = _divisor(p, 'markers_rate')
         self.offset = np.asarray(p['guide_way_offset'], dtype=float)
         self.plant = self._build(p['initial_length']) if p['initial_length'] > 0.0 else None
-        self._check_config()
+        warm_up(self._checked_config())
         self.started = False
         self.steps = 0
         self.scripted = ScriptedReel(p['reference_gain']) if p['reel_input'] == 'reference' else None
@@ -212,10 +213,12 @@ class PlantNode(Node):
         except PlantConfigError as error:
             raise ConfigurationError(str(error)) from None
 
-    def _check_config(self) -> None:
-        """Refuse a configuration the plant refuses before the first step (any length: the length is checked then)."""
+    def _checked_config(self) -> PlantConfig:
+        """The plant's configuration at the reel's least length; refused before the first step if the plant
+        refuses it (any length: the length is checked then).
+        """
         try:
-            plant_config(self.params, ReelConfig().min_length)
+            return plant_config(self.params, ReelConfig().min_length)
         except PlantConfigError as error:
             raise ConfigurationError(str(error)) from None
 

@@ -2,6 +2,10 @@
 
 from __future__ import annotations
 
+import json
+import subprocess
+import sys
+
 import numpy as np
 import pytest
 
@@ -117,3 +121,24 @@ def test_a_landing_beside_the_pad_comes_down_on_the_level_ground():
     assert not state.armed
     np.testing.assert_allclose(state.position, [5.0, 0.0, 0.0], atol=0.05)
     assert state.position[2] == 0.0 and not state.velocity.any()
+
+
+WARM_UP_PROBE = r'''
+import json
+import numpy as np
+from uav_bridge.builtin_uav import BuiltinUav, BuiltinUavConfig
+from tether_dynamics.plant import bodies
+uav = BuiltinUav(BuiltinUavConfig(start=(15.0, 0.0, 0.0), start_height=28.0))
+before = len(bodies.body_step.signatures)
+uav.warm_up()
+warmed = len(bodies.body_step.signatures)
+for k in range(1, 4):
+    uav.step(0.01 * k, np.array([-1.0, 0.0, -2.0]))
+print(json.dumps([before, warmed, len(bodies.body_step.signatures)]))
+'''
+
+
+def test_warm_up_compiles_the_body_step_a_flight_then_runs():
+    out = subprocess.run([sys.executable, '-c', WARM_UP_PROBE], capture_output=True, text=True, check=True)
+    before, warmed, after = json.loads(out.stdout)
+    assert before == 0 < warmed == after

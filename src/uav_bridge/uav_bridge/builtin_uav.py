@@ -91,6 +91,14 @@ class BuiltinUav:
             self.reference = self.body[bodies.BS_POS:bodies.BS_POS + 3].copy()
             self.armed = True
 
+    def warm_up(self) -> None:
+        """Advance a scratch copy of the body one step, so that numba compiles ``body_step`` now
+        (seconds in a fresh checkout; afterwards it loads it from its on-disk cache), while the node
+        starts, and not at the first tick in the air, where it counted in the run's CPU per simulated second.
+        """
+        bodies.body_step(self.body.copy(), self.config.mass, self.inertia, self.inertia_inv, self.rho, self.thrust,
+                         self.torque, np.zeros(3), self.config.gravity, self.config.dt)
+
     def _rest(self, pad: np.ndarray | None = None, pad_velocity: np.ndarray | None = None) -> None:
         """At rest on the ground: where it touched down, or on the pad (``pad``: its rest point, world),
         moving with it (``pad_velocity``, m/s).

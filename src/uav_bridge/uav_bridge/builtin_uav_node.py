@@ -90,6 +90,7 @@ class BuiltinUavNode(Node):
             mass=params['mass'], inertia=tuple(np.diag(params['inertia'])), attach_offset=tuple(params['attach_offset']),
             start=tuple(params['start']), start_height=params['start_height'], land_speed=params['land_speed'],
             pad_radius=params['pad_radius']))
+        self.uav.warm_up()
         self.pose_pub = self.create_publisher(PoseStamped, '/uav/pose', SENSOR)
         self.twist_pub = self.create_publisher(TwistStamped, '/uav/twist', SENSOR)
         self.imu_pub = self.create_publisher(Imu, '/uav/imu', SENSOR)

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+from dataclasses import replace
 
 import numpy as np
 
@@ -231,3 +232,19 @@ class TetherPlant:
         deployed = mu * (self._fem.deployed_rest_length() if self._fem is not None
                          else float(self._rs[bodies.RS_LENGTH]))
         return drum + deployed
+
+
+def warm_up(config: PlantConfig) -> None:
+    """Step a scratch plant of ``config``'s fidelity, effects and reel drive once, so that numba
+    compiles the kernels it runs (about 15 s in a fresh checkout; afterwards it loads them from its
+    on-disk cache). A node calls it while it starts: compiled in the run's first tick, the kernels
+    counted in the run's CPU per simulated second and slowed the first tick of a rate-max run.
+
+    The scratch tether is the reel's full length (the longest elements, the most stable step)
+    hanging between the guide way and a UAV 0.6 of it out and 0.6 of it up.
+    """
+    length = config.reel.max_length
+    inputs = PlantInputs(uav_position=np.asarray(config.guide_way_offset, float) + [0.6 * length, 0.0, 0.6 * length])
+    plant = TetherPlant(replace(config, initial_length=length))
+    plant.step(0.0, inputs)
+    plant.step(2.0 * config.dt, inputs)
