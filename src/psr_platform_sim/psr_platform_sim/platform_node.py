@@ -34,6 +34,7 @@ from tether_msgs.msg import PlatformState
 
 from psr_platform_sim.platform_params import PARAMETERS
 from psr_platform_sim.platform_params import from_params
+from psr_platform_sim.simulator import PlatformSample
 from psr_platform_sim.simulator import PlatformSimulator
 from psr_platform_sim.simulator import platform_imu
 from psr_platform_sim.waves import ProfileError
@@ -64,6 +65,21 @@ class PlatformNode(Node):
         self.pose_pub = self.create_publisher(PoseStamped, '/platform/reel_pose', STATE)
         self.twist_pub = self.create_publisher(TwistStamped, '/platform/reel_twist', STATE)
         self.imu_pub = self.create_publisher(Imu, '/platform/imu', SENSOR)
+        # One message object per topic, refilled each tick (publish() serialises it at once),
+        # and one sample per tick time for the state and the IMU tasks.
+        self.state_msg = PlatformState()
+        self.pose_msg = PoseStamped()
+        self.twist_msg = TwistStamped()
+        for msg in (self.state_msg, self.pose_msg, self.twist_msg):
+            msg.header.frame_id = 'world'
+        self.imu_msg = Imu()
+        self.imu_msg.header.frame_id = 'boat'
+        self.imu_msg.orientation_covariance = [1e-6, 0.0, 0.0, 0.0, 1e-6, 0.0, 0.0, 0.0, 1e-6]
+        self.imu_msg.angular_velocity_covariance = [self.gyro_var, 0.0, 0.0, 0.0, self.gyro_var, 0.0, 0.0, 0.0,
+                                                    self.gyro_var]
+        self.imu_msg.linear_acceleration_covariance = [self.accel_var, 0.0, 0.0, 0.0, self.accel_var, 0.0, 0.0, 0.0,
+                                                       self.accel_var]
+        self.sampled: tuple[int, PlatformSample] | None = None
         self.lockstep = Lockstep(self)
         self.lockstep.every(1.0 / params['state_rate'], self.state_callback)
         self.lockstep.every(1.0 / params['imu_rate'], self.imu_callback)
@@ -76,13 +92,18 @@ class PlatformNode(Node):
             f'heave {error["heave"] * 1000:.1f} mm, roll {error["roll"] * 57.2958:.3f} deg, '
             f'pitch {error["pitch"] * 57.2958:.3f} deg')
 
+    def sample(self, tick: Tick) -> PlatformSample:
+        """The simulator's sample at the tick's sim time (taken once per tick time)."""
+        if self.sampled is None or self.sampled[0] != tick.time_ns:
+            self.sampled = (tick.time_ns, self.sim.sample(tick.seconds))
+        return self.sampled[1]
+
     def state_callback(self, tick: Tick) -> None:
         """Publish /platform/state, /platform/reel_pose and /platform/reel_twist for the tick's sim time."""
-        s = self.sim.sample(tick.seconds)
+        s = self.sample(tick)
         stamp = tick.stamp
-        msg = PlatformState()
+        msg = self.state_msg
         msg.header.stamp = stamp
-        msg.header.frame_id = 'world'
         msg.slider_height = [float(v) for v in s.slider_height]
         msg.slider_velocity = [float(v) for v in s.slider_velocity]
         msg.heave, msg.roll, msg.pitch, msg.yaw = s.heave, s.roll, s.pitch, s.yaw
@@ -93,16 +114,14 @@ class PlatformNode(Node):
             s.commanded_heave, s.commanded_roll, s.commanded_pitch)
         msg.in_workspace = s.in_workspace
         self.state_pub.publish(msg)
-        pose = PoseStamped()
+        pose = self.pose_msg
         pose.header.stamp = stamp
-        pose.header.frame_id = 'world'
         pose.pose.position.x, pose.pose.position.y, pose.pose.position.z = (float(v) for v in s.position)
         q = pose.pose.orientation
         q.x, q.y, q.z, q.w = (float(v) for v in s.quaternion)
         self.pose_pub.publish(pose)
-        twist = TwistStamped()
+        twist = self.twist_msg
         twist.header.stamp = stamp
-        twist.header.frame_id = 'world'
         v, w = twist.twist.linear, twist.twist.angular
         v.x, v.y, v.z = (float(c) for c in s.reel_velocity)
         w.x, w.y, w.z = (float(c) for c in s.world_angular_velocity)
@@ -110,19 +129,14 @@ class PlatformNode(Node):
 
     def imu_callback(self, tick: Tick) -> None:
         """Publish /platform/imu: orientation (truth), noisy angular velocity and specific force."""
-        s = self.sim.sample(tick.seconds)
+        s = self.sample(tick)
         gyro, accel = self.imu_model.measure(s.angular_velocity, s.specific_force)
-        msg = Imu()
+        msg = self.imu_msg
         msg.header.stamp = tick.stamp
-        msg.header.frame_id = 'boat'
         q = msg.orientation
         q.x, q.y, q.z, q.w = (float(v) for v in s.quaternion)
-        msg.orientation_covariance = [1e-6, 0.0, 0.0, 0.0, 1e-6, 0.0, 0.0, 0.0, 1e-6]
         msg.angular_velocity.x, msg.angular_velocity.y, msg.angular_velocity.z = (float(v) for v in gyro)
-        msg.angular_velocity_covariance = [self.gyro_var, 0.0, 0.0, 0.0, self.gyro_var, 0.0, 0.0, 0.0, self.gyro_var]
         msg.linear_acceleration.x, msg.linear_acceleration.y, msg.linear_acceleration.z = (float(v) for v in accel)
-        msg.linear_acceleration_covariance = [self.accel_var, 0.0, 0.0, 0.0, self.accel_var, 0.0, 0.0, 0.0,
-                                              self.accel_var]
         self.imu_pub.publish(msg)
 
 
