@@ -24,6 +24,7 @@ from __future__ import annotations
 import math
 import sys
 
+from builtin_interfaces.msg import Time as TimeMsg
 from rclpy.node import Node
 from sensor_msgs.msg import Imu
 from tether_msgs.msg import DgpsFix
@@ -69,6 +70,15 @@ class EstimatorNode(Node):
         self.estimate_pub = self.create_publisher(RelativeEstimate, '/estimate/relative', LOOP)
         self.foh_pub = self.create_publisher(RelativeEstimate, '/estimate/foh', STATE)
         self.rejection_pub = self.create_publisher(FixRejection, '/estimate/rejections', STATE)
+        # One message object per topic published every tick, refilled (publish() serialises it at once);
+        # the FOH baseline's fields without a value are NaN once and for all
+        self.estimate_msg = RelativeEstimate()
+        self.estimate_msg.header.frame_id = 'world'
+        self.foh_msg = RelativeEstimate()
+        foh = self.foh_msg
+        foh.dz_accel = foh.accel_bias_reel = foh.accel_bias_uav = math.nan
+        foh.covariance = [math.nan] * 25
+        foh.nis = math.nan
         self.lockstep = Lockstep(self)
         self.lockstep.every(self.period, self.on_tick, [
             Input('/imu/reel', Imu, self.period, params['input_delay']),
@@ -99,31 +109,26 @@ class EstimatorNode(Node):
 
     def publish(self, t_ns: int, est: Estimate) -> None:
         """Publish the estimate, the FOH baseline and the rejections of one tick."""
-        stamp = to_stamp(t_ns * 1e-9)
-        msg = RelativeEstimate()
-        msg.header.stamp = stamp
-        msg.header.frame_id = 'world'
+        msg = self.estimate_msg
+        msg.header.stamp = to_stamp(t_ns * 1e-9)
         msg.dz, msg.dz_rate, msg.dz_accel, msg.accel_bias_reel, msg.accel_bias_uav = (float(v) for v in est.x)
         msg.covariance = est.P.ravel().tolist()
         msg.horizontal.x, msg.horizontal.y = float(est.horizontal[0]), float(est.horizontal[1])
         msg.initialized = est.initialized
         msg.radial = est.radial
-        if math.isfinite(est.horizontal_fix_time):
-            msg.horizontal_fix_time = to_stamp(est.horizontal_fix_time)
+        msg.horizontal_fix_time = (to_stamp(est.horizontal_fix_time) if math.isfinite(est.horizontal_fix_time)
+                                   else TimeMsg())
         msg.nis = est.nis
         msg.rejected = est.rejected
         msg.rejection_reason = '; '.join(f'{r.reason}: {r.detail}' for r in est.rejections)
         self.estimate_pub.publish(msg)
-        foh = RelativeEstimate()
+        foh = self.foh_msg
         foh.header = msg.header
         foh.dz, foh.dz_rate = est.foh, est.foh_rate
-        foh.dz_accel = foh.accel_bias_reel = foh.accel_bias_uav = math.nan
-        foh.covariance = [math.nan] * 25
         foh.horizontal = msg.horizontal
         foh.initialized = math.isfinite(est.foh)
         foh.radial = msg.radial
         foh.horizontal_fix_time = msg.horizontal_fix_time
-        foh.nis = math.nan
         self.foh_pub.publish(foh)
         for r in est.rejections:
             rej = FixRejection()

@@ -111,6 +111,8 @@ class SensorsNode(Node):
             self.truth_pub = self.create_publisher(RelativePosition, '/truth/relative', STATE)
         self.reel_pub = self.create_publisher(Imu, '/imu/reel', SENSOR)
         self.uav_pub = self.create_publisher(Imu, '/imu/uav', SENSOR)
+        self.reel_msg = imu_message('boat', self.suite.reel_imu.spec)
+        self.uav_msg = imu_message('uav', self.suite.uav_imu.spec)
         self.fix_pub = self.create_publisher(DgpsFix, '/dgps/fix', SENSOR)
         self.fault_pub = self.create_publisher(SensorFault, '/sensors/faults', STATE)
         self.lockstep = Lockstep(self)
@@ -206,22 +208,29 @@ class SensorsNode(Node):
             msg.truth.x, msg.truth.y, msg.truth.z = (float(v) for v in fault.truth)
             msg.reported.x, msg.reported.y, msg.reported.z = (float(v) for v in fault.reported)
             self.fault_pub.publish(msg)
-        self.reel_pub.publish(imu_message(out.reel, 'boat', self.suite.reel_imu.spec))
-        self.uav_pub.publish(imu_message(out.uav, 'uav', self.suite.uav_imu.spec))
+        self.reel_pub.publish(fill_imu(self.reel_msg, out.reel))
+        self.uav_pub.publish(fill_imu(self.uav_msg, out.uav))
 
 
-def imu_message(sample: ImuSample, frame: str, spec: ImuSpec) -> Imu:
-    """sensor_msgs/Imu of a sample, with the class's white-noise variances on the covariance diagonals."""
+def imu_message(frame: str, spec: ImuSpec) -> Imu:
+    """sensor_msgs/Imu of ``frame`` with the class's white-noise variances on the covariance diagonals,
+    refilled by :func:`fill_imu` each tick (publish() serialises it at once).
+    """
     msg = Imu()
-    msg.header.stamp = to_stamp(sample.t)
     msg.header.frame_id = frame
+    msg.angular_velocity_covariance = _diagonal(spec.gyro_noise**2)
+    msg.linear_acceleration_covariance = _diagonal(spec.accel_noise**2)
+    return msg
+
+
+def fill_imu(msg: Imu, sample: ImuSample) -> Imu:
+    """``msg`` with the sample's stamp, orientation, angular velocity and specific force."""
+    msg.header.stamp = to_stamp(sample.t)
     q = msg.orientation
     q.x, q.y, q.z, q.w = (float(v) for v in sample.quaternion)
     msg.angular_velocity.x, msg.angular_velocity.y, msg.angular_velocity.z = (float(v) for v in sample.gyro)
     a = msg.linear_acceleration
     a.x, a.y, a.z = (float(v) for v in sample.accel)
-    msg.angular_velocity_covariance = _diagonal(spec.gyro_noise**2)
-    msg.linear_acceleration_covariance = _diagonal(spec.accel_noise**2)
     return msg
 
 

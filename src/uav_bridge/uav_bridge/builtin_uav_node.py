@@ -63,7 +63,7 @@ from uav_bridge.builtin_uav import BuiltinUavConfig
 from uav_bridge.builtin_uav_params import PARAMETERS
 from uav_bridge.ros_fill import fill_quaternion
 from uav_bridge.ros_fill import fill_vector
-from uav_bridge.ros_fill import pose_and_twist
+from uav_bridge.ros_fill import fill_pose_and_twist
 
 
 class BuiltinUavNode(Node):
@@ -95,6 +95,8 @@ class BuiltinUavNode(Node):
         self.twist_pub = self.create_publisher(TwistStamped, '/uav/twist', SENSOR)
         self.imu_pub = self.create_publisher(Imu, '/uav/imu', SENSOR)
         self.state_pub = self.create_publisher(UavState, '/uav/state', STATE)
+        # One message object per per-tick topic, every field refilled each tick (publish() serialises it at once)
+        self.pose_msg, self.twist_msg, self.imu_msg = PoseStamped(), TwistStamped(), Imu()
         if not params['command_rate']:
             self.create_subscription(PoseStamped, '/uav/setpoint', self.setpoint_callback, COMMAND)
         self.create_service(SetMode, '/uav/set_mode', self.set_mode_callback)
@@ -132,11 +134,11 @@ class BuiltinUavNode(Node):
         state = self.uav.step(tick.time_ns * 1e-9, force, self.pad_in_world(tick.inputs.get('/platform/reel_pose')))
         stamp = tick.stamp
         rotation = quaternion_rotation(state.quaternion, 'the UAV attitude')
-        pose, twist = pose_and_twist(stamp, state.position, state.quaternion, state.velocity,
-                                     rotation.apply(state.angular_velocity))
+        pose, twist, imu = self.pose_msg, self.twist_msg, self.imu_msg
+        fill_pose_and_twist(pose, twist, stamp, state.position, state.quaternion, state.velocity,
+                            rotation.apply(state.angular_velocity))
         self.pose_pub.publish(pose)
         self.twist_pub.publish(twist)
-        imu = Imu()
         imu.header.stamp, imu.header.frame_id = stamp, 'uav'
         fill_quaternion(imu.orientation, state.quaternion)
         fill_vector(imu.angular_velocity, state.angular_velocity)
