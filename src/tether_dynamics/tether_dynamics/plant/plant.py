@@ -20,7 +20,7 @@ class PlantStepError(ValueError):
 
 def _finite(name: str, value: object, shape: tuple[int, ...]) -> np.ndarray:
     arr = np.asarray(value, float)
-    if arr.shape != shape or not np.all(np.isfinite(arr)):
+    if arr.shape != shape or not np.isfinite(arr).all():
         msg = f'input {name} must be finite with shape {shape}, got {value!r}'
         raise PlantStepError(msg)
     return arr
@@ -205,9 +205,9 @@ class TetherPlant:
             lumps[1:] += 0.5 * mu * element_rest
         else:
             lumps = self._fem.lumps()
-        kinetic = 0.5 * float(np.sum(lumps * np.sum(vel * vel, axis=1)))
-        potential = g * float(np.sum(lumps * nodes[:, 2]))
-        strain = float(np.sum(tensions**2 * np.diff(arc) / (2.0 * cfg.ea)))
+        kinetic = 0.5 * float((lumps * (vel * vel).sum(axis=1)).sum())
+        potential = g * float((lumps * nodes[:, 2]).sum())
+        strain = float((tensions**2 * (arc[1:] - arc[:-1]) / (2.0 * cfg.ea)).sum())
         moment = cross(end - upos, f_uav)
         sea = float(inputs.sea_surface_height)
         return PlantOutputs(
