@@ -38,6 +38,7 @@ from psr_platform_sim.simulator import PlatformSample
 from psr_platform_sim.simulator import PlatformSimulator
 from psr_platform_sim.simulator import platform_imu
 from psr_platform_sim.waves import ProfileError
+from tether_common.covariance import diagonal_3x3
 from tether_common.lockstep import Lockstep
 from tether_common.lockstep import Tick
 from tether_common.node_main import ConfigurationError
@@ -59,8 +60,6 @@ class PlatformNode(Node):
             raise ConfigurationError(str(error)) from None
         self.imu_model = platform_imu(params['seed'], params['imu_gyro_noise'], params['imu_accel_noise'],
                                       params['imu_gyro_bias'], params['imu_accel_bias'], params['imu_rate'])
-        self.gyro_var = params['imu_gyro_noise'] ** 2
-        self.accel_var = params['imu_accel_noise'] ** 2
         self.state_pub = self.create_publisher(PlatformState, '/platform/state', STATE)
         self.pose_pub = self.create_publisher(PoseStamped, '/platform/reel_pose', STATE)
         self.twist_pub = self.create_publisher(TwistStamped, '/platform/reel_twist', STATE)
@@ -74,11 +73,9 @@ class PlatformNode(Node):
             msg.header.frame_id = 'world'
         self.imu_msg = Imu()
         self.imu_msg.header.frame_id = 'boat'
-        self.imu_msg.orientation_covariance = [1e-6, 0.0, 0.0, 0.0, 1e-6, 0.0, 0.0, 0.0, 1e-6]
-        self.imu_msg.angular_velocity_covariance = [self.gyro_var, 0.0, 0.0, 0.0, self.gyro_var, 0.0, 0.0, 0.0,
-                                                    self.gyro_var]
-        self.imu_msg.linear_acceleration_covariance = [self.accel_var, 0.0, 0.0, 0.0, self.accel_var, 0.0, 0.0, 0.0,
-                                                       self.accel_var]
+        self.imu_msg.orientation_covariance = diagonal_3x3(1e-6)
+        self.imu_msg.angular_velocity_covariance = diagonal_3x3(params['imu_gyro_noise'] ** 2)
+        self.imu_msg.linear_acceleration_covariance = diagonal_3x3(params['imu_accel_noise'] ** 2)
         self.sampled: tuple[int, PlatformSample] | None = None
         self.lockstep = Lockstep(self)
         self.lockstep.every(1.0 / params['state_rate'], self.state_callback)

@@ -59,6 +59,7 @@ from relpos_estimator.sensors import SuiteOutput
 from relpos_estimator.sensors import Truth
 from relpos_estimator.sensors_params import PARAMETERS
 from relpos_estimator.sensors_params import configs
+from tether_common.covariance import diagonal_3x3
 from tether_common.node_main import ConfigurationError
 from tether_common.node_main import run_node
 from tether_common.lockstep import Input
@@ -218,8 +219,8 @@ def imu_message(frame: str, spec: ImuSpec) -> Imu:
     """
     msg = Imu()
     msg.header.frame_id = frame
-    msg.angular_velocity_covariance = _diagonal(spec.gyro_noise**2)
-    msg.linear_acceleration_covariance = _diagonal(spec.accel_noise**2)
+    msg.angular_velocity_covariance = diagonal_3x3(spec.gyro_noise**2)
+    msg.linear_acceleration_covariance = diagonal_3x3(spec.accel_noise**2)
     return msg
 
 
@@ -232,11 +233,6 @@ def fill_imu(msg: Imu, sample: ImuSample) -> Imu:
     a = msg.linear_acceleration
     a.x, a.y, a.z = (float(v) for v in sample.accel)
     return msg
-
-
-def _diagonal(variance: float) -> list[float]:
-    """Row-major 3 x 3 covariance with ``variance`` on the diagonal."""
-    return [variance, 0.0, 0.0, 0.0, variance, 0.0, 0.0, 0.0, variance]
 
 
 def main(args=None):

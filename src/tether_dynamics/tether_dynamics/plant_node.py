@@ -53,6 +53,7 @@ from tether_common.qos import LOOP
 from tether_common.qos import SENSOR
 from tether_common.qos import STATE
 from tether_common.ros_parameters import declare_parameters
+from tether_common.rotation import quaternion_rotation
 from tether_dynamics.plant import PlantConfig
 from tether_dynamics.plant import PlantConfigError
 from tether_dynamics.plant import PlantInputs
@@ -63,7 +64,6 @@ from tether_dynamics.plant import TetherPlant
 from tether_dynamics.plant import UavConfig
 from tether_dynamics.plant.ends import point_on_body
 from tether_dynamics.plant.plant import warm_up
-from tether_common.rotation import quaternion_rotation
 from tether_dynamics.plant_markers import scene_markers
 from tether_dynamics.plant_params import PARAMETERS
 from tether_dynamics.scripted_reel import ScriptedReel

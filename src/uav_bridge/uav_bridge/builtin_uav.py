@@ -24,9 +24,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from tether_common.rotation import quaternion_rotation
 from tether_dynamics.plant import bodies
 from tether_dynamics.plant.ends import cross
-from tether_common.rotation import quaternion_rotation
 from uav_bridge.multirotor_control import StationController
 from uav_bridge.multirotor_control import UavBodyState
 
