@@ -40,7 +40,6 @@ from geometry_msgs.msg import TwistStamped
 from geometry_msgs.msg import WrenchStamped
 from tether_msgs.msg import TetherState
 from rclpy.node import Node
-from scipy.spatial.transform import Rotation
 from sensor_msgs.msg import Imu
 
 from tether_common.lockstep import Input
@@ -52,6 +51,7 @@ from tether_common.qos import SENSOR
 from tether_common.qos import STATE
 from tether_common.constants import GRAVITY
 from tether_common.ros_parameters import declare_parameters
+from tether_common.rotation import quaternion_rotation
 from uav_bridge.json_physics import JsonPhysics
 from uav_bridge.json_physics import JsonPhysicsConfig
 from uav_bridge.json_physics_params import PARAMETERS
@@ -154,7 +154,7 @@ class JsonPhysicsNode(Node):
     def publish(self, tick: Tick) -> None:
         """The UAV at the tick: pose, twist, IMU."""
         frame = self.physics.frame
-        rotation = Rotation.from_quat(frame.quaternion)
+        rotation = quaternion_rotation(frame.quaternion, 'the UAV attitude')
         pose, twist = pose_and_twist(tick.stamp, frame.position, frame.quaternion, frame.velocity,
                                      rotation.apply(frame.angular_velocity))
         self.pose_pub.publish(pose)

@@ -19,8 +19,8 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.spatial.transform import Rotation
 
+from tether_common.rotation import quaternion_rotation
 from uav_bridge.frames import enu_to_ned
 from uav_bridge.frames import euler_ned_to_quaternion_enu
 from uav_bridge.frames import frd_to_flu
@@ -83,7 +83,7 @@ def attitude(msg) -> Attitude:
 
 def kinematics(msg, current: Attitude, origin) -> Kinematics:
     """Convert LOCAL_POSITION_NED with the latest attitude; ``origin``: EKF origin in world (ENU, m)."""
-    omega_world = Rotation.from_quat(current.orientation).apply(current.rates_body)
+    omega_world = quaternion_rotation(current.orientation, 'ATTITUDE').apply(current.rates_body)
     return Kinematics(msg.time_boot_ms * 1e-3,
                       np.asarray(origin, dtype=float) + ned_to_enu([msg.x, msg.y, msg.z]),
                       ned_to_enu([msg.vx, msg.vy, msg.vz]),
