@@ -35,6 +35,7 @@ def _program(package: str, executable: str) -> str:
 
 PLATFORM = _program('psr_platform_sim', 'platform')
 RECORDER = _program('tether_bringup', 'recorder')
+PLANT = _program('tether_dynamics', 'plant')
 FAST_PLATFORM = ['-p', 'table_steps:=60', '-p', 'profile_duration:=2.0', '-p', 'profile:=still']
 
 BAD = [
@@ -57,6 +58,9 @@ BAD = [
     ('rclpy parameter', PLATFORM, ['use_sim_time:=1'],
      "platform: error: Trying to set parameter 'use_sim_time' to '1' of type 'INTEGER', expecting type 'BOOL': "
      'use_sim_time'),
+    ('plant step its elements cannot take', PLANT, ['fidelity:=linear', 'integration_step:=0.01'],
+     "plant: error: at the reel's full length (100 m): dt 0.01 s is above the stable step 0.00461 s of elements of "
+     '5 m (EA 20000 N, mu 0.042 kg/m); reduce dt or lengthen the elements'),
     ('recorder out of range', RECORDER, ['flush_period:=100.0'],
      'recorder: error: parameter flush_period: expected a number in [0.05, 10] (s), got 100.0'),
     ('recorder wrong list', RECORDER, ['exclude:=[1, 2]'],

@@ -136,7 +136,7 @@ class PlantNode(Node):
         self.markers_every = _divisor(p, 'markers_rate')
         self.offset = np.asarray(p['guide_way_offset'], dtype=float)
         self.plant = self._build(p['initial_length']) if p['initial_length'] > 0.0 else None
-        warm_up(self._checked_config())
+        self._warm_up()
         self.started = False
         self.steps = 0
         self.scripted = ScriptedReel(p['reference_gain']) if p['reel_input'] == 'reference' else None
@@ -221,6 +221,16 @@ class PlantNode(Node):
             return plant_config(self.params, ReelConfig().min_length)
         except PlantConfigError as error:
             raise ConfigurationError(str(error)) from None
+
+    def _warm_up(self) -> None:
+        """Compile the plant's kernels while the node starts (:func:`~tether_dynamics.plant.plant.warm_up`, a scratch
+        plant at the reel's full length); a configuration the plant refuses there ends the node in one line (exit 2).
+        """
+        config = self._checked_config()
+        try:
+            warm_up(config)
+        except (PlantConfigError, PlantStepError) as error:
+            raise ConfigurationError(f'at the reel\'s full length ({config.reel.max_length:g} m): {error}') from None
 
     def _start(self, inputs: PlantInputs) -> None:
         """At the first step, without an initial_length, deploy the reference length of the first relative position."""
