@@ -1,10 +1,11 @@
 """The node group: a scene's nodes in one process, spun on one executor.
 
-A message between two nodes of the group is delivered inside the process (Fast DDS
-intra-process delivery): no shared-memory transport and no other process to wake. On this
-2-core machine that takes ``outdoor_flight``'s seven nodes from 1.05 CPU s per simulated s
-in seven processes to 0.44 in one (README, "Throughput"). Each node stays a node of its
-own: its name, parameters, topics, lockstep ack and recording are the same as in a process
+A message one node of the group publishes is handed to the others' subscriptions of its
+topic inside the process, as their own copies, besides going over DDS to the recorder
+(:func:`tether_common.lockstep.link_in_process`): no shared-memory transport, no other
+process to wake, no take by the executor. On this 2-core machine one process took
+``outdoor_flight``'s seven nodes from 1.05 CPU s per simulated s in seven processes to 0.44
+(README, "Throughput"). Each node stays a node of its own: its name, parameters, topics, lockstep ack and recording are the same as in a process
 of its own, and so is every recorded payload. The recorder stays a process of its own, so
 the bag is finalized whatever happens to the group.
 

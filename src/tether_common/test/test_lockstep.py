@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import time
 
+import numpy as np
 import pytest
 from geometry_msgs.msg import PointStamped
 from rclpy.node import Node
@@ -12,12 +13,14 @@ from rosgraph_msgs.msg import Clock
 from tether_msgs.msg import LockstepAck
 
 from tether_common.lockstep import ACK_TOPIC
+from tether_common.lockstep import HandoffPublisher
 from tether_common.lockstep import JOIN_SETTLE
 from tether_common.lockstep import RECORDER_READY_VARIABLE
 from tether_common.lockstep import Input
 from tether_common.lockstep import Lockstep
 from tether_common.lockstep import LockstepError
 from tether_common.lockstep import _Stream
+from tether_common.lockstep import link_in_process
 from tether_common.lockstep import stamp_ns
 from tether_common.node_main import make_executor
 from tether_common.qos import LOCKSTEP_ACK_READER
@@ -34,7 +37,7 @@ def _point(time_ns: int, value: float) -> PointStamped:
 
 
 def test_stream_selects_latest_at_or_before_bound_and_knows_what_is_due():
-    stream = _Stream('/in', PointStamped, 20 * MS)
+    stream = _Stream('/in', PointStamped, 20 * MS, STATE)
     assert stream.ready(19 * MS) and stream.select(19 * MS) is None  # the producer's first stamp is 20 ms
     assert not stream.ready(20 * MS)
     stream.add(_point(20 * MS, 1.0))
@@ -148,3 +151,45 @@ def test_a_node_joins_only_once_the_recorder_is_ready(ros_context, tmp_path, mon
     assert _spin_until(executor, lambda: acks == [0])
     node.destroy_node()
     source.destroy_node()
+
+
+def test_nodes_of_one_process_hand_messages_over_and_keep_their_readers_in_the_graph(ros_context):
+    """link_in_process: a lockstep input published in the process takes each message as its own copy, so the
+    producer may refill one object; a plain subscription gets it at once, inside the publish; the inputs' DDS
+    readers stay in the graph, matched, and take nothing.
+    """
+    producer = Node('producer', context=ros_context)
+    consumer = Node('consumer', context=ros_context)
+    clock = producer.create_publisher(Clock, '/clock', STATE)
+    inputs = producer.create_publisher(PointStamped, '/in', STATE)
+    side = producer.create_publisher(PointStamped, '/side', STATE)
+    ticks, side_values = [], []
+    consumer.create_subscription(PointStamped, '/side', lambda msg: side_values.append(msg.point.x), STATE)
+    lockstep = Lockstep(consumer)
+    lockstep.every(0.01, lambda tick: ticks.append(tick.inputs['/in']),
+                   inputs=[Input('/in', PointStamped, period=0.01, delay=0.01)])
+    links = link_in_process([producer, consumer])
+    # the lockstep's /clock subscription is a plain one: linked too
+    assert all(isinstance(publisher, HandoffPublisher) for publisher in (inputs, side, clock))
+    assert consumer.count_subscribers('/in') == 1 and consumer.count_subscribers('/side') == 1
+    assert not any(s.topic_name in ('/in', '/side') for s in consumer.subscriptions)  # nothing for the executor
+    executor = make_executor(ros_context)
+    executor.add_node(producer)
+    executor.add_node(consumer)
+    assert _spin_until(executor, lambda: inputs.get_subscription_count() == 1 and side.get_subscription_count() == 1)
+    message = _point(10 * MS, 1.0)
+    message.point.y = np.float64(0.5)
+    inputs.publish(message)
+    side.publish(message)
+    assert side_values == [1.0]  # delivered inside the publish, before any spin
+    message.header.stamp.nanosec, message.point.x = 20 * MS, 2.0  # the producer refills its one object
+    inputs.publish(message)
+    tick_clock = Clock()
+    tick_clock.clock.nanosec = 30 * MS
+    clock.publish(tick_clock)  # also handed over: the ticks run inside this publish
+    assert [None if m is None else (stamp_ns(m.header.stamp), m.point.x) for m in ticks] == [
+        None, (10 * MS, 1.0), (20 * MS, 2.0)]
+    assert type(ticks[1].point.y) is float and ticks[1] is not ticks[2]
+    links.close()
+    producer.destroy_node()
+    consumer.destroy_node()

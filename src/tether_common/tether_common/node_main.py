@@ -74,15 +74,17 @@ def run_nodes(factories: dict[str, Callable[[], Node]], args: list[str] | None =
 
     A node that cannot be built is reported under its name (``<name>: error: ...``); an
     error while they spin, under the program's. One executor for several nodes: a message
-    between two of them is delivered inside the process by Fast DDS (``tether_bringup``'s
-    node group).
+    one of them publishes on another's lockstep input is handed over inside the process
+    (:func:`tether_common.lockstep.link_in_process`; ``tether_bringup``'s node group).
     """
+    from tether_common.lockstep import link_in_process  # lockstep imports this module's ConfigurationError
     program = Path(sys.argv[0]).name
     refused = _init(args)
     if refused:
         print(f'{program}: error: invalid --ros-args: {refused}', file=sys.stderr, flush=True)
         return 2
     nodes: list[Node] = []
+    links = None
     status = 0
     building = program
     try:
@@ -90,6 +92,7 @@ def run_nodes(factories: dict[str, Callable[[], Node]], args: list[str] | None =
             building = name
             nodes.append(factory())
         building = program
+        links = link_in_process(nodes)
         spinner = executor() if executor is not None else make_executor()
         for node in nodes:
             spinner.add_node(node)
@@ -107,6 +110,8 @@ def run_nodes(factories: dict[str, Callable[[], Node]], args: list[str] | None =
         # SIGTERM shut the context down while a node was being built: the rcl call that
         # failed on the dead context is the normal end, not an error
     finally:
+        if links is not None:
+            links.close()
         for node in nodes:
             node.destroy_node()
         rclpy.try_shutdown()
