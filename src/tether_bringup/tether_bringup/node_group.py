@@ -5,8 +5,9 @@ topic inside the process, as their own copies, besides going over DDS to the rec
 (:func:`tether_common.lockstep.link_in_process`): no shared-memory transport, no other
 process to wake, no take by the executor. On this 2-core machine one process took
 ``outdoor_flight``'s seven nodes from 1.05 CPU s per simulated s in seven processes to 0.44
-(README, "Throughput"). Each node stays a node of its own: its name, parameters, topics, lockstep ack and recording are the same as in a process
-of its own, and so is every recorded payload. The recorder stays a process of its own, so
+(README, "Throughput"). Each node stays a node of its own: its name, parameters, topics,
+lockstep ack and recording are the same as in a process of its own, and so is every
+recorded payload. The recorder stays a process of its own, so
 the bag is finalized whatever happens to the group.
 
 A node can join the group if its package registers its class under the ``tethersim.nodes``
