@@ -193,3 +193,30 @@ def test_nodes_of_one_process_hand_messages_over_and_keep_their_readers_in_the_g
     links.close()
     producer.destroy_node()
     consumer.destroy_node()
+
+
+def test_lockstep_nodes_of_one_process_share_one_clock_subscription(ros_context):
+    """link_in_process: one /clock subscription advances every lockstep node of the process; the
+    others' /clock readers stay in the graph, matched, and take nothing.
+    """
+    master = Node('time_master', context=ros_context)  # not linked: its /clock arrives over DDS
+    clock = master.create_publisher(Clock, '/clock', STATE)
+    nodes = [Node(name, context=ros_context) for name in ('first', 'second', 'third')]
+    ticks = {node.get_name(): [] for node in nodes}
+    for node in nodes:
+        Lockstep(node).every(0.01, lambda tick, name=node.get_name(): ticks[name].append(tick.seconds))
+    links = link_in_process(nodes)
+    assert [sum(s.topic_name == '/clock' for s in node.subscriptions) for node in nodes] == [1, 0, 0]
+    executor = make_executor(ros_context)
+    for node in (master, *nodes):
+        executor.add_node(node)
+    assert _spin_until(executor, lambda: clock.get_subscription_count() == 3)
+    assert master.count_subscribers('/clock') == 3
+    tick_clock = Clock()
+    tick_clock.clock.nanosec = 20 * MS
+    clock.publish(tick_clock)
+    assert _spin_until(executor, lambda: all(len(seconds) == 2 for seconds in ticks.values()))
+    assert ticks == {name: [0.01, 0.02] for name in ticks}
+    links.close()
+    for node in (master, *nodes):
+        node.destroy_node()

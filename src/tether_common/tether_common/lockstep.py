@@ -56,7 +56,9 @@ run writes are those of separate processes; its samples are not taken. A take an
 conversion cost the group's one Python thread 55–100 µs per message with the recorder
 subscribed; the copy 2.5–4.3 µs. Ticks that a hand-off makes runnable run after the
 current callback, one node at a time (:class:`_Scheduler`), never inside another node's
-tick; the rules above make the result independent of that order.
+tick; the rules above make the result independent of that order. One ``/clock``
+subscription advances all the process's lockstep nodes; the others' ``/clock`` readers
+stay in the graph, idle, as the inputs' do.
 """
 
 from __future__ import annotations
@@ -273,6 +275,8 @@ class Lockstep:
         _LOCKSTEPS.add(self)
         self._ack_pub = node.create_publisher(LockstepAck, ACK_TOPIC, LOCKSTEP_ACK)
         self._clock_sub = node.create_subscription(ClockMsg, '/clock', self._on_clock, CLOCK)
+        self._clock_shared: list[Lockstep] = [self]
+        """The locksteps this one's ``/clock`` subscription advances: itself, or its process's (:func:`link_in_process`)."""
         steady = Clock(clock_type=ClockType.STEADY_TIME)
         self._join_timer = node.create_timer(JOIN_CHECK_PERIOD, self._try_join, clock=steady)
         self._stall_timer = node.create_timer(STALL_LOG_PERIOD, self._log_stall, clock=steady)
@@ -313,8 +317,10 @@ class Lockstep:
         return stream
 
     def _on_clock(self, msg: ClockMsg) -> None:
-        self._clock_ns = max(self._clock_ns, stamp_ns(msg.clock))
-        _SCHEDULER.run(self)
+        clock_ns = stamp_ns(msg.clock)
+        for lockstep in self._clock_shared:
+            lockstep._clock_ns = max(lockstep._clock_ns, clock_ns)
+        _SCHEDULER.run(*self._clock_shared)
 
     def _on_input(self, stream: _Stream, msg) -> None:
         """A message taken over DDS (inside the executor) or handed over by its producer (inside the producer's tick)."""
@@ -409,9 +415,10 @@ class _Scheduler:
         self._pending: list[Lockstep] = []
         self._running = False
 
-    def run(self, lockstep: Lockstep) -> None:
-        if lockstep not in self._pending:
-            self._pending.append(lockstep)
+    def run(self, *locksteps: Lockstep) -> None:
+        for lockstep in locksteps:
+            if lockstep not in self._pending:
+                self._pending.append(lockstep)
         if self._running:
             return
         self._running = True
@@ -492,11 +499,12 @@ def link_in_process(nodes: Sequence[Node]) -> InProcessLinks:
                 publisher.handoffs = []
             publisher.handoffs.append(deliver)
 
-    members = set(map(id, nodes))
-    for lockstep in list(_LOCKSTEPS):
+    order = {id(node): index for index, node in enumerate(nodes)}
+    locksteps = sorted((lockstep for lockstep in _LOCKSTEPS if id(lockstep._node) in order),
+                       key=lambda lockstep: order[id(lockstep._node)])
+    _share_clock(locksteps, links)
+    for lockstep in locksteps:
         node = lockstep._node
-        if id(node) not in members:
-            continue
         for stream in lockstep._streams.values():
             topic = node.resolve_topic_name(stream.topic)
             if topic in publishers:
@@ -512,6 +520,21 @@ def link_in_process(nodes: Sequence[Node]) -> InProcessLinks:
                 links.readers.append(_idle_reader(node, subscription.msg_type, topic, subscription.qos_profile))
                 link(topic, _plain_delivery(subscription.callback, subscription.raw))
     return links
+
+
+def _share_clock(locksteps: list[Lockstep], links: InProcessLinks) -> None:
+    """One ``/clock`` subscription, the first lockstep's, advances every lockstep of the process;
+    the others' readers stay in the graph, idle.
+    """
+    if len(locksteps) < 2:
+        return
+    for lockstep in locksteps[1:]:
+        node = lockstep._node
+        node.destroy_subscription(lockstep._clock_sub)
+        lockstep._clock_sub = _idle_reader(node, ClockMsg, '/clock', CLOCK)
+        links.readers.append(lockstep._clock_sub)
+        lockstep._clock_shared = []
+    locksteps[0]._clock_shared = list(locksteps)
 
 
 def _message_class(msg_type: type | str) -> type:
