@@ -239,8 +239,8 @@ class PlatformSimulator:
 
     def sample(self, time: float) -> PlatformSample:
         """State at ``time`` seconds after the start (nearest fine-grid sample), angles in REP-103."""
-        i = int(np.clip(round(time * self.rate), 0, self.t.size - 1))
-        c = int(np.clip(round(time / self.command_dt), 0, self.command_t.size - 1))
+        i = min(max(int(round(time * self.rate)), 0), self.t.size - 1)
+        c = min(max(int(round(time / self.command_dt)), 0), self.command_t.size - 1)
         held = time * self.rate > self.t.size - 1
         zero3 = np.zeros(3)
         return PlatformSample(
