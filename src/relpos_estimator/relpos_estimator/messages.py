@@ -23,11 +23,10 @@ def split_ns(seconds: float) -> tuple[int, int]:
 def imu_vertical(msg) -> float:
     """World-vertical acceleration (m/s^2, gravity removed) of a sensor_msgs/Imu; NaN if a field is not finite."""
     q, a = msg.orientation, msg.linear_acceleration
-    quaternion = np.array([q.x, q.y, q.z, q.w])
-    accel = np.array([a.x, a.y, a.z])
-    if not (np.all(np.isfinite(quaternion)) and np.all(np.isfinite(accel))):
+    values = (q.x, q.y, q.z, q.w, a.x, a.y, a.z)
+    if not all(map(math.isfinite, values)):
         return math.nan
-    return vertical_acceleration(quaternion, accel)
+    return vertical_acceleration(np.array(values[:4]), np.array(values[4:]))
 
 
 def fix_from_message(msg) -> Fix:
