@@ -37,7 +37,7 @@ def _point(time_ns: int, value: float) -> PointStamped:
 
 
 def test_stream_selects_latest_at_or_before_bound_and_knows_what_is_due():
-    stream = _Stream('/in', PointStamped, 20 * MS, STATE)
+    stream = _Stream('/in', PointStamped, 20 * MS)
     assert stream.ready(19 * MS) and stream.select(19 * MS) is None  # the producer's first stamp is 20 ms
     assert not stream.ready(20 * MS)
     stream.add(_point(20 * MS, 1.0))

@@ -188,11 +188,10 @@ def stamp_ns(stamp) -> int:
 class _Stream:
     """Messages of one input topic, kept by stamp until no task can select them any more."""
 
-    def __init__(self, topic: str, msg_type: type, period: int, qos: QoSProfile) -> None:
+    def __init__(self, topic: str, msg_type: type, period: int) -> None:
         self.topic = topic
         self.msg_type = msg_type
         self.period_ns = period
-        self.qos = qos
         self.messages: deque = deque()
         self.latest_ns = -1
         self.subscription = None
@@ -306,9 +305,9 @@ class Lockstep:
             raise ValueError(f'input {spec.topic}: {msg_type.__name__} has no header; lockstep inputs are stamped')
         stream = self._streams.get(spec.topic)
         if stream is None:
+            stream = _Stream(spec.topic, msg_type, period_ns(spec.period))
             qos = copy.copy(spec.qos)
             qos.depth = max(qos.depth, INPUT_DEPTH)
-            stream = _Stream(spec.topic, msg_type, period_ns(spec.period), qos)
             stream.subscription = self._node.create_subscription(
                 msg_type, spec.topic, lambda msg: self._on_input(stream, msg), qos)
             self._streams[spec.topic] = stream
@@ -457,16 +456,21 @@ class InProcessLinks:
     def __init__(self) -> None:
         self.readers: list = []
 
+    def idle(self, node: Node, subscription):
+        """Replace ``subscription`` with a DDS reader of its topic, type and QoS that keeps it in the
+        graph; the executor never sees the reader.
+        """
+        msg_type, topic, qos = subscription.msg_type, subscription.topic_name, subscription.qos_profile
+        node.destroy_subscription(subscription)
+        with node.handle:
+            reader = _rclpy.Subscription(node.handle, msg_type, topic, qos.get_c_qos_profile())
+        self.readers.append(reader)
+        return reader
+
     def close(self) -> None:
         for reader in self.readers:
             reader.destroy_when_not_in_use()
         self.readers.clear()
-
-
-def _idle_reader(node: Node, msg_type: type, topic: str, qos: QoSProfile):
-    """A DDS reader that keeps a hand-off's subscription in the graph; the executor never sees it."""
-    with node.handle:
-        return _rclpy.Subscription(node.handle, msg_type, topic, qos.get_c_qos_profile())
 
 
 def _plain_delivery(callback: Callable, raw: bool) -> Callable[[object], None]:
@@ -506,19 +510,17 @@ def link_in_process(nodes: Sequence[Node]) -> InProcessLinks:
     for lockstep in locksteps:
         node = lockstep._node
         for stream in lockstep._streams.values():
-            topic = node.resolve_topic_name(stream.topic)
+            topic = stream.subscription.topic_name
             if topic in publishers:
-                node.destroy_subscription(stream.subscription)
-                stream.subscription = _idle_reader(node, stream.msg_type, stream.topic, stream.qos)
-                links.readers.append(stream.subscription)
+                stream.subscription = links.idle(node, stream.subscription)
                 link(topic, lambda msg, lockstep=lockstep, stream=stream: lockstep._on_input(stream, msg))
     for node in nodes:
         for subscription in list(node.subscriptions):
             topic = subscription.topic_name
             if topic in publishers:
-                node.destroy_subscription(subscription)
-                links.readers.append(_idle_reader(node, subscription.msg_type, topic, subscription.qos_profile))
-                link(topic, _plain_delivery(subscription.callback, subscription.raw))
+                deliver = _plain_delivery(subscription.callback, subscription.raw)
+                links.idle(node, subscription)
+                link(topic, deliver)
     return links
 
 
@@ -529,10 +531,7 @@ def _share_clock(locksteps: list[Lockstep], links: InProcessLinks) -> None:
     if len(locksteps) < 2:
         return
     for lockstep in locksteps[1:]:
-        node = lockstep._node
-        node.destroy_subscription(lockstep._clock_sub)
-        lockstep._clock_sub = _idle_reader(node, ClockMsg, '/clock', CLOCK)
-        links.readers.append(lockstep._clock_sub)
+        lockstep._clock_sub = links.idle(lockstep._node, lockstep._clock_sub)
         lockstep._clock_shared = []
     locksteps[0]._clock_shared = list(locksteps)
 

@@ -74,7 +74,8 @@ def run_nodes(factories: dict[str, Callable[[], Node]], args: list[str] | None =
 
     A node that cannot be built is reported under its name (``<name>: error: ...``); an
     error while they spin, under the program's. One executor for several nodes: a message
-    one of them publishes on another's lockstep input is handed over inside the process
+    one of them publishes is handed to the others' subscriptions of its topic inside the
+    process, and one ``/clock`` subscription advances them all
     (:func:`tether_common.lockstep.link_in_process`; ``tether_bringup``'s node group).
     """
     from tether_common.lockstep import link_in_process  # lockstep imports this module's ConfigurationError
