@@ -2,8 +2,9 @@
 
 A thin wrapper around :class:`uav_bridge.builtin_uav.BuiltinUav` (the plant's UAV rigid body
 under the cascaded station controller). It publishes what ``mavlink_bridge`` publishes —
-``/uav/pose``, ``/uav/twist`` (``world``), ``/uav/imu`` (``uav``, FLU) at every tick,
-``/uav/state`` (transient local) at every multiple of 1/``state_rate`` — and everything it
+``/uav/pose``, ``/uav/twist`` (``world``) at every tick, ``/uav/imu`` (``uav``, FLU) at every
+multiple of 1/``imu_rate``, ``/uav/state`` (transient local) at every multiple of
+1/``state_rate`` — and everything it
 does is fixed by stamps (:mod:`tether_common.lockstep`):
 
 * With ``tether_force: topic`` the tether's force on the UAV comes from the plant on
@@ -81,9 +82,10 @@ class BuiltinUavNode(Node):
                                  f'{params["rate"]:g} Hz; every tick needs the pad\'s pose')
             if min(params['inertia']) <= 0.0:
                 raise ValueError(f'parameter inertia: expected positive moments, got {params["inertia"]}')
-            if period_ns(1.0 / params['state_rate']) % period_ns(1.0 / params['rate']):
-                raise ValueError(f'parameter state_rate: {params["state_rate"]:g} Hz is not rate '
-                                 f'{params["rate"]:g} Hz divided by a whole number (states go out at ticks)')
+            for name in ('state_rate', 'imu_rate'):
+                if period_ns(1.0 / params[name]) % period_ns(1.0 / params['rate']):
+                    raise ValueError(f'parameter {name}: {params[name]:g} Hz is not rate {params["rate"]:g} Hz '
+                                     f'divided by a whole number (its messages go out at ticks)')
         except ValueError as error:
             raise ConfigurationError(str(error)) from None
         self.uav = BuiltinUav(BuiltinUavConfig(
@@ -104,6 +106,7 @@ class BuiltinUavNode(Node):
         self.create_service(Takeoff, '/uav/takeoff', self.takeoff_callback)
         self.create_service(Trigger, '/uav/land', self.land_callback)
         self.state_period_ns = period_ns(1.0 / params['state_rate'])
+        self.imu_period_ns = period_ns(1.0 / params['imu_rate'])
         self.outcome = (0, False, '')
         self.lockstep = Lockstep(self)
         wrench_period = 1.0 / params['wrench_rate']
@@ -139,13 +142,14 @@ class BuiltinUavNode(Node):
                             rotation.apply(state.angular_velocity))
         self.pose_pub.publish(pose)
         self.twist_pub.publish(twist)
-        imu.header.stamp, imu.header.frame_id = stamp, 'uav'
-        fill_quaternion(imu.orientation, state.quaternion)
-        fill_vector(imu.angular_velocity, state.angular_velocity)
-        specific_force = state.acceleration + [0.0, 0.0, self.uav.config.gravity] if state.armed else \
-            np.array([0.0, 0.0, self.uav.config.gravity])
-        fill_vector(imu.linear_acceleration, rotation.apply_inverse(specific_force))
-        self.imu_pub.publish(imu)
+        if tick.time_ns % self.imu_period_ns == 0:
+            imu.header.stamp, imu.header.frame_id = stamp, 'uav'
+            fill_quaternion(imu.orientation, state.quaternion)
+            fill_vector(imu.angular_velocity, state.angular_velocity)
+            specific_force = state.acceleration + [0.0, 0.0, self.uav.config.gravity] if state.armed else \
+                np.array([0.0, 0.0, self.uav.config.gravity])
+            fill_vector(imu.linear_acceleration, rotation.apply_inverse(specific_force))
+            self.imu_pub.publish(imu)
         if tick.time_ns % self.state_period_ns == 0:
             msg = UavState()
             msg.header.stamp = stamp

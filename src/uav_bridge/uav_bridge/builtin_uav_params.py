@@ -25,6 +25,9 @@ PARAMETERS: tuple[ParamSpec, ...] = (
               'late, each request carried out at the tick that selects it; 0: no mission topic, commands by the '
               'services and /uav/setpoint as they arrive (by hand; not reproducible)', 'Hz', low=0.0, high=100.0,
               read_only=True),
+    ParamSpec('imu_rate', 100.0, '/uav/imu messages per second of sim time, one at every multiple of its period '
+              '(rate divided by a whole number; the sensors node measures the UAV from the plant\'s truth, not from '
+              'this)', 'Hz', low=1.0, high=1000.0, read_only=True),
     ParamSpec('state_rate', 10.0, '/uav/state messages per second of sim time, one at every multiple of its period '
               '(the mission\'s uav_state_rate)', 'Hz', low=1.0, high=1000.0, read_only=True),
     ParamSpec('ground', 'level', 'what the UAV lands and rests on: level (the height of start) or pad (a landing '
