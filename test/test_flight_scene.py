@@ -66,3 +66,12 @@ def test_the_report_prints_the_mission_figures_and_writes_its_plots(run):
     for name in ('flight', 'tether', 'errors', 'clearance'):
         assert (run / f'run_{name}.png').stat().st_size > 10_000
     assert processes_of(run) == []
+
+
+def test_the_scene_asks_for_the_bodies_ideal_imus_at_20_hz_and_gets_them_on_the_ticks_of_that_rate(run):
+    bag = read_bag(run, ['/uav/imu', '/platform/imu', '/uav/pose'])
+    for topic in ('/uav/imu', '/platform/imu'):
+        stamps = np.array([_stamp(m) for _, m in bag.decoded(topic)])
+        assert len(stamps) == pytest.approx(DURATION * 20, abs=1), topic
+        np.testing.assert_allclose(np.diff(stamps), 0.05, atol=1e-9)
+    assert len(list(bag.decoded('/uav/pose'))) == pytest.approx(DURATION * 100, abs=1)   # poses stay at every tick

@@ -36,6 +36,7 @@ def _program(package: str, executable: str) -> str:
 PLATFORM = _program('psr_platform_sim', 'platform')
 RECORDER = _program('tether_bringup', 'recorder')
 PLANT = _program('tether_dynamics', 'plant')
+BUILTIN_UAV = _program('uav_bridge', 'builtin_uav')
 FAST_PLATFORM = ['-p', 'table_steps:=60', '-p', 'profile_duration:=2.0', '-p', 'profile:=still']
 
 BAD = [
@@ -61,6 +62,9 @@ BAD = [
     ('plant step its elements cannot take', PLANT, ['fidelity:=linear', 'integration_step:=0.01'],
      "plant: error: at the reel's full length (100 m): dt 0.01 s is above the stable step 0.00461 s of elements of "
      '5 m (EA 20000 N, mu 0.042 kg/m); reduce dt or lengthen the elements'),
+    ('builtin UAV IMU rate off its ticks', BUILTIN_UAV, ['imu_rate:=30.0'],
+     'builtin_uav: error: parameter imu_rate: 30 Hz is not rate 100 Hz divided by a whole number (its messages '
+     'go out at ticks)'),
     ('recorder out of range', RECORDER, ['flush_period:=100.0'],
      'recorder: error: parameter flush_period: expected a number in [0.05, 10] (s), got 100.0'),
     ('recorder wrong list', RECORDER, ['exclude:=[1, 2]'],

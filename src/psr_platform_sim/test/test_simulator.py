@@ -126,3 +126,12 @@ def test_published_frames_are_enu_and_flu_with_the_bow_east(tmp_path, roll, pitc
     assert np.sign(bow[2]) == np.sign(pitch) or pitch == 0.0
     np.testing.assert_allclose(thesis_to_rep103(*sim.thesis_angles[500]), [s.roll, s.pitch, s.yaw], atol=1e-12)
     assert np.degrees(s.roll) == pytest.approx(roll, abs=0.5) and np.degrees(s.pitch) == pytest.approx(-pitch, abs=0.5)
+
+
+def test_a_slower_imu_does_not_coarsen_the_motion_the_state_is_sampled_from(tmp_path):
+    config = _params(tmp_path, profile='hpr3', state_rate=100.0, imu_rate=20.0)
+    assert config.sample_rate == 100.0
+    assert _params(tmp_path, state_rate=50.0, imu_rate=200.0).sample_rate == 200.0
+    sim = PlatformSimulator(config)
+    heave = [sim.sample(t).heave for t in (12.00, 12.01, 12.02)]
+    assert heave[0] != heave[1] != heave[2]        # on a 20 Hz grid the three 10 ms ticks had one sample

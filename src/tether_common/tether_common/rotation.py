@@ -21,10 +21,10 @@ class UnitQuaternion:
 
     def __init__(self, q: np.ndarray) -> None:
         self.q = q
-        x, y, z, w = (float(c) for c in q)
-        self.matrix = np.array([[1.0 - 2.0 * (y * y + z * z), 2.0 * (x * y - z * w), 2.0 * (x * z + y * w)],
-                                [2.0 * (x * y + z * w), 1.0 - 2.0 * (x * x + z * z), 2.0 * (y * z - x * w)],
-                                [2.0 * (x * z - y * w), 2.0 * (y * z + x * w), 1.0 - 2.0 * (x * x + y * y)]])
+        x, y, z, w = q.tolist()
+        self.matrix = np.array([1.0 - 2.0 * (y * y + z * z), 2.0 * (x * y - z * w), 2.0 * (x * z + y * w),
+                                2.0 * (x * y + z * w), 1.0 - 2.0 * (x * x + z * z), 2.0 * (y * z - x * w),
+                                2.0 * (x * z - y * w), 2.0 * (y * z + x * w), 1.0 - 2.0 * (x * x + y * y)]).reshape(3, 3)
 
     def apply(self, vec: np.ndarray) -> np.ndarray:
         """The rotated vector(s)."""
@@ -42,8 +42,8 @@ class UnitQuaternion:
 def quaternion_rotation(q: np.ndarray, what: str) -> UnitQuaternion:
     """The rotation of an (x, y, z, w) quaternion; a one-line error if it is not near unit length."""
     q = np.asarray(q, float)
-    norm = float(np.linalg.norm(q)) if q.shape == (4,) else 0.0
-    if not np.isfinite(norm) or abs(norm - 1.0) > 1e-3:
+    norm = math.sqrt(q.dot(q)) if q.shape == (4,) else 0.0
+    if not math.isfinite(norm) or abs(norm - 1.0) > 1e-3:
         msg = f'{what} must be a unit quaternion (x, y, z, w), got {q.tolist()}'
         raise ValueError(msg)
     return UnitQuaternion(q / norm)

@@ -89,7 +89,7 @@ class StationController:
             force = force - np.asarray(tether_force, dtype=float)
         force = self._limit_tilt(force)
         rotation = quaternion_rotation(state.quaternion, 'the UAV attitude').matrix
-        thrust = float(np.clip(force @ rotation[:, 2], 0.0, g.max_thrust))
+        thrust = min(max(float(force @ rotation[:, 2]), 0.0), g.max_thrust)
         desired = self._desired_attitude(force, yaw)
         error_r = 0.5 * _vee(desired.T @ rotation - rotation.T @ desired)    # Lee et al. Eq. (10)
         omega = np.asarray(state.angular_velocity, dtype=float)
@@ -109,10 +109,10 @@ class StationController:
 
     @staticmethod
     def _desired_attitude(force: np.ndarray, yaw: float) -> np.ndarray:
-        b3 = force / np.linalg.norm(force)
+        b3 = force / math.sqrt(force.dot(force))
         heading = np.array([math.cos(yaw), math.sin(yaw), 0.0])
         b2 = cross(b3, heading)
-        b2 /= np.linalg.norm(b2)
+        b2 /= math.sqrt(b2.dot(b2))
         return np.column_stack([cross(b2, b3), b2, b3])
 
 

@@ -20,7 +20,7 @@ class PlantStepError(ValueError):
 
 def _finite(name: str, value: object, shape: tuple[int, ...]) -> np.ndarray:
     arr = np.asarray(value, float)
-    if arr.shape != shape or not np.isfinite(arr).all():
+    if arr.shape != shape or not all(map(math.isfinite, arr.reshape(-1).tolist())):
         msg = f'input {name} must be finite with shape {shape}, got {value!r}'
         raise PlantStepError(msg)
     return arr
