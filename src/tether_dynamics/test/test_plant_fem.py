@@ -276,3 +276,34 @@ def test_unstable_step_and_peer_methods_on_quadratic_elements_are_refused() -> N
         TetherPlant(PlantConfig(fidelity='quadratic', dt=1e-3, elements=20, initial_length=20.0))
     with pytest.raises(PlantConfigError, match='quadratic elements use'):
         TetherPlant(PlantConfig(fidelity='quadratic', reshape='uniform', dt=1e-4))
+
+
+@pytest.mark.parametrize('order', [1, 2])
+def test_lowest_point_and_node_arc_kernels_against_dense_sampling_and_cumulative_sums(order) -> None:
+    from tether_dynamics.plant import fem_kernels as fk  # noqa: PLC0415 - compiled kernels
+
+    rng = np.random.default_rng(7)
+    elements = 12
+    n = order * elements + 1
+    x = np.zeros((n + 5, 3))                                    # spare rows beyond n, as FemTether keeps
+    x[:n, 0] = np.linspace(0.0, 10.0, n)
+    x[:n, 2] = 0.3 * np.cos(np.linspace(0.0, 9.0, n)) + 0.05 * rng.standard_normal(n)
+    x[n:, 2] = -100.0                                           # never part of the tether
+    low = np.empty(3)
+    fk.lowest_point(x, n, order, low)
+    if order == 1:
+        np.testing.assert_array_equal(low, x[np.argmin(x[:n, 2])])
+    else:
+        z = np.linspace(-1.0, 1.0, 20001)[:, None]
+        dense = np.concatenate([0.5 * (z * z - z) * x[j] + (1.0 - z * z) * x[j + 1] + 0.5 * (z * z + z) * x[j + 2]
+                                for j in range(0, n - 1, 2)])
+        lowest = dense[np.argmin(dense[:, 2])]
+        assert low[2] <= lowest[2] + 1e-15 and low[2] > lowest[2] - 1e-7   # the vertex, not a sample above it
+        np.testing.assert_allclose(low, lowest, atol=1e-3)
+    rest = rng.uniform(0.5, 1.5, elements)
+    arc = np.empty(n)
+    fk.node_arc(rest, order, arc)
+    ends = np.concatenate([[0.0], np.cumsum(rest)])
+    np.testing.assert_array_equal(arc[::order], ends)
+    if order == 2:
+        np.testing.assert_array_equal(arc[1::2], ends[:-1] + 0.5 * rest)

@@ -18,7 +18,7 @@ from tether_bringup.scene import find_scene
 from tether_bringup.scene import load_scene
 from tether_dynamics.plant import config
 from tether_dynamics.plant_markers import reference_shape
-from tether_dynamics.plant_markers import scene_markers
+from tether_dynamics.plant_markers import SceneMarkers
 from tether_dynamics.plant_params import EFFECTS
 from tether_dynamics.plant_params import FIDELITIES
 from tether_dynamics.plant_params import PARAMETERS
@@ -77,8 +77,13 @@ def test_reference_shape_is_the_catenary_of_the_reference_length_between_the_end
 def test_markers_are_all_in_world_with_the_step_stamp_and_survive_serialization():
     stamp = Time(sec=12, nanosec=340_000_000)
     nodes = reference_shape(GUIDE, UAV, 21)
-    array = scene_markers(stamp, nodes, GUIDE, np.array([0.0, 0.0, 0.0, 1.0]), GUIDE, UAV, nodes[5], True)
+    markers = SceneMarkers()
+    first = deserialize_message(serialize_message(markers.fill(Time(sec=1), reference_shape(GUIDE, UAV, 31), GUIDE,
+                                                               np.array([0.0, 0.0, 0.0, 1.0]), GUIDE, UAV,
+                                                               nodes[5], False)), MarkerArray)
+    array = markers.fill(stamp, nodes, GUIDE, np.array([0.0, 0.0, 0.0, 1.0]), GUIDE, UAV, nodes[5], True)
     decoded = deserialize_message(serialize_message(array), MarkerArray)
+    assert len(first.markers[0].points) == 31 and first.markers[-1].color.g > 0.8   # refilled: 31 points, then 21
     assert [m.ns for m in decoded.markers] == ['tether', 'reference', 'reel', 'platform', 'uav', 'lowest_point']
     for marker in decoded.markers:
         assert marker.header.frame_id == 'world'
@@ -92,6 +97,8 @@ def test_markers_are_all_in_world_with_the_step_stamp_and_survive_serialization(
             assert min(marker.scale.x, marker.scale.y, marker.scale.z) > 0
     tether = decoded.markers[0]
     assert len(tether.points) == 21 and tether.points[-1].z == pytest.approx(UAV[2])
+    np.testing.assert_array_equal([[p.x, p.y, p.z] for p in tether.points], nodes)
+    assert [m.scale.x for m in decoded.markers] == [m.scale.x for m in first.markers]
     assert decoded.markers[-1].color.r > 0.8 and decoded.markers[-1].color.g < 0.2  # fouling: red
 
 

@@ -25,6 +25,7 @@ from geometry_msgs.msg import Point
 from visualization_msgs.msg import Marker
 from visualization_msgs.msg import MarkerArray
 
+from tether_common.vector_lists import fill_xyz
 from tether_dynamics.plant import quasi_static
 from tether_dynamics.statics.catenary import GRAVITY
 from tether_dynamics.statics.catenary import THESIS_LINEAR_DENSITY
@@ -32,6 +33,7 @@ from tether_dynamics.statics.reference_length import reference_length
 
 FRAME = 'world'
 REFERENCE_POINTS = 41
+UPRIGHT = np.array([0.0, 0.0, 0.0, 1.0])
 COLORS = {
     'tether': (1.0, 0.55, 0.0, 1.0),
     'reference': (0.2, 0.8, 0.3, 0.7),
@@ -56,9 +58,8 @@ def reference_shape(guide_way: np.ndarray, uav: np.ndarray, n: int = REFERENCE_P
     return quasi_static.solve(a, b, length, THESIS_LINEAR_DENSITY, math.inf, GRAVITY).points(a, n)
 
 
-def _marker(stamp: Time, ns: str, kind: int, color: tuple[float, float, float, float]) -> Marker:
+def _marker(ns: str, kind: int, color: tuple[float, float, float, float]) -> Marker:
     marker = Marker()
-    marker.header.stamp = stamp
     marker.header.frame_id = FRAME
     marker.ns = ns
     marker.id = 0
@@ -69,42 +70,54 @@ def _marker(stamp: Time, ns: str, kind: int, color: tuple[float, float, float, f
     return marker
 
 
-def _points(array: np.ndarray) -> list[Point]:
-    return [Point(x=float(p[0]), y=float(p[1]), z=float(p[2])) for p in array]
-
-
-def _place(marker: Marker, position: np.ndarray, quaternion: np.ndarray, scale: tuple[float, float, float]) -> None:
+def _place(marker: Marker, position: np.ndarray, quaternion: np.ndarray) -> None:
     marker.pose.position.x, marker.pose.position.y, marker.pose.position.z = (float(v) for v in position)
     q = marker.pose.orientation
     q.x, q.y, q.z, q.w = (float(v) for v in quaternion)
-    marker.scale.x, marker.scale.y, marker.scale.z = scale
 
 
-def scene_markers(stamp: Time, nodes: np.ndarray, reel_mount: np.ndarray, boat_quaternion: np.ndarray,
-                  guide_way: np.ndarray, uav: np.ndarray, lowest_point: np.ndarray, fouling: bool) -> MarkerArray:
-    """Build the scene's markers for one plant step.
-
-    Args:
-        stamp: the plant step's sim time.
-        nodes: ``(n, 3)`` tether points from the reel end to the UAV end, world (m).
-        reel_mount: reel mount position (/platform/reel_pose), world (m).
-        boat_quaternion: attitude of ``boat`` in ``world`` (x, y, z, w).
-        guide_way, uav: tether ends, world (m).
-        lowest_point: lowest point of the tether, world (m).
-        fouling: the plant's fouling flag (colours the lowest point red).
+class SceneMarkers:
+    """The scene's markers for the plant's steps: one MarkerArray, refilled at each call of :meth:`fill`
+    (``publish()`` serialises it at once, so the node may refill it for the next step).
     """
-    tether = _marker(stamp, 'tether', Marker.LINE_STRIP, COLORS['tether'])
-    tether.scale.x = 0.03
-    tether.points = _points(nodes)
-    reference = _marker(stamp, 'reference', Marker.LINE_STRIP, COLORS['reference'])
-    reference.scale.x = 0.015
-    reference.points = _points(reference_shape(guide_way, uav))
-    reel = _marker(stamp, 'reel', Marker.CYLINDER, COLORS['reel'])
-    _place(reel, guide_way, boat_quaternion, (0.25, 0.25, 0.12))
-    platform = _marker(stamp, 'platform', Marker.CUBE, COLORS['platform'])
-    _place(platform, reel_mount, boat_quaternion, (0.46, 0.40, 0.03))
-    drone = _marker(stamp, 'uav', Marker.SPHERE, COLORS['uav'])
-    _place(drone, uav, np.array([0.0, 0.0, 0.0, 1.0]), (0.3, 0.3, 0.12))
-    lowest = _marker(stamp, 'lowest_point', Marker.SPHERE, COLORS['fouling' if fouling else 'lowest_point'])
-    _place(lowest, lowest_point, np.array([0.0, 0.0, 0.0, 1.0]), (0.08, 0.08, 0.08))
-    return MarkerArray(markers=[tether, reference, reel, platform, drone, lowest])
+
+    def __init__(self) -> None:
+        self.tether = _marker('tether', Marker.LINE_STRIP, COLORS['tether'])
+        self.tether.scale.x = 0.03
+        self.reference = _marker('reference', Marker.LINE_STRIP, COLORS['reference'])
+        self.reference.scale.x = 0.015
+        self.reel = _marker('reel', Marker.CYLINDER, COLORS['reel'])
+        self.reel.scale.x, self.reel.scale.y, self.reel.scale.z = 0.25, 0.25, 0.12
+        self.platform = _marker('platform', Marker.CUBE, COLORS['platform'])
+        self.platform.scale.x, self.platform.scale.y, self.platform.scale.z = 0.46, 0.40, 0.03
+        self.uav = _marker('uav', Marker.SPHERE, COLORS['uav'])
+        self.uav.scale.x, self.uav.scale.y, self.uav.scale.z = 0.3, 0.3, 0.12
+        self.lowest = _marker('lowest_point', Marker.SPHERE, COLORS['lowest_point'])
+        self.lowest.scale.x, self.lowest.scale.y, self.lowest.scale.z = 0.08, 0.08, 0.08
+        self.array = MarkerArray(markers=[self.tether, self.reference, self.reel, self.platform, self.uav,
+                                          self.lowest])
+
+    def fill(self, stamp: Time, nodes: np.ndarray, reel_mount: np.ndarray, boat_quaternion: np.ndarray,
+             guide_way: np.ndarray, uav: np.ndarray, lowest_point: np.ndarray, fouling: bool) -> MarkerArray:
+        """The scene's markers for one plant step.
+
+        Args:
+            stamp: the plant step's sim time.
+            nodes: ``(n, 3)`` tether points from the reel end to the UAV end, world (m).
+            reel_mount: reel mount position (/platform/reel_pose), world (m).
+            boat_quaternion: attitude of ``boat`` in ``world`` (x, y, z, w).
+            guide_way, uav: tether ends, world (m).
+            lowest_point: lowest point of the tether, world (m).
+            fouling: the plant's fouling flag (colours the lowest point red).
+        """
+        for marker in self.array.markers:
+            marker.header.stamp = stamp
+        fill_xyz(self.tether.points, nodes, Point)
+        fill_xyz(self.reference.points, reference_shape(guide_way, uav), Point)
+        _place(self.reel, guide_way, boat_quaternion)
+        _place(self.platform, reel_mount, boat_quaternion)
+        _place(self.uav, uav, UPRIGHT)
+        _place(self.lowest, lowest_point, UPRIGHT)
+        color = self.lowest.color
+        color.r, color.g, color.b, color.a = COLORS['fouling' if fouling else 'lowest_point']
+        return self.array

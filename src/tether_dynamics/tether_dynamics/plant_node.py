@@ -54,6 +54,7 @@ from tether_common.qos import SENSOR
 from tether_common.qos import STATE
 from tether_common.ros_parameters import declare_parameters
 from tether_common.rotation import quaternion_rotation
+from tether_common.vector_lists import fill_xyz
 from tether_dynamics.plant import PlantConfig
 from tether_dynamics.plant import PlantConfigError
 from tether_dynamics.plant import PlantInputs
@@ -64,7 +65,7 @@ from tether_dynamics.plant import TetherPlant
 from tether_dynamics.plant import UavConfig
 from tether_dynamics.plant.ends import point_on_body
 from tether_dynamics.plant.plant import warm_up
-from tether_dynamics.plant_markers import scene_markers
+from tether_dynamics.plant_markers import SceneMarkers
 from tether_dynamics.plant_params import PARAMETERS
 from tether_dynamics.scripted_reel import ScriptedReel
 from tether_dynamics.statics.catenary import GRAVITY
@@ -157,12 +158,14 @@ class PlantNode(Node):
         self.truth_pub = self.create_publisher(RelativePosition, '/truth/relative', STATE)
         self.nodes_pub = self.create_publisher(TetherNodes, '/tether/nodes', SENSOR)
         self.markers_pub = self.create_publisher(MarkerArray, '/tether/markers', STATE)
+        self.markers = SceneMarkers()
         # One message object per per-step topic, refilled each step: publish() serialises it
         # at once, and building a message's nested fields anew costs more than the plant step.
         self.state_msg = TetherState()
         self.wrench_msg = WrenchStamped()
         self.truth_msg = RelativePosition()
-        for msg in (self.state_msg, self.wrench_msg, self.truth_msg):
+        self.nodes_msg = TetherNodes()
+        for msg in (self.state_msg, self.wrench_msg, self.truth_msg, self.nodes_msg):
             msg.header.frame_id = 'world'
         self.lockstep = Lockstep(self)
         self.lockstep.every(1.0 / p['state_rate'], self.step_callback, inputs)
@@ -267,9 +270,9 @@ class PlantNode(Node):
         if self.steps % self.nodes_every == 0:
             self._publish_nodes(stamp, out)
         if self.steps % self.markers_every == 0:
-            self.markers_pub.publish(scene_markers(stamp, out.nodes, inputs.platform_position,
-                                                   inputs.platform_quaternion, out.reel_end, out.uav_end,
-                                                   out.lowest_point, out.fouling))
+            self.markers_pub.publish(self.markers.fill(stamp, out.nodes, inputs.platform_position,
+                                                       inputs.platform_quaternion, out.reel_end, out.uav_end,
+                                                       out.lowest_point, out.fouling))
         self.steps += 1
 
     def _publish_state(self, stamp, out: PlantOutputs) -> None:
@@ -322,13 +325,12 @@ class PlantNode(Node):
         self.truth_pub.publish(msg)
 
     def _publish_nodes(self, stamp, out: PlantOutputs) -> None:
-        msg = TetherNodes()
+        msg = self.nodes_msg
         msg.header.stamp = stamp
-        msg.header.frame_id = 'world'
-        msg.positions = [Point(x=float(p[0]), y=float(p[1]), z=float(p[2])) for p in out.nodes]
-        msg.velocities = [Vector3(x=float(v[0]), y=float(v[1]), z=float(v[2])) for v in out.velocities]
-        msg.tensions = [float(v) for v in out.tensions]
-        msg.arc_length = [float(v) for v in out.arc_length]
+        fill_xyz(msg.positions, out.nodes, Point)
+        fill_xyz(msg.velocities, out.velocities, Vector3)
+        msg.tensions = out.tensions.tolist()
+        msg.arc_length = out.arc_length.tolist()
         self.nodes_pub.publish(msg)
 
 

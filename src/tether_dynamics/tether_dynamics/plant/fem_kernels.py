@@ -807,3 +807,45 @@ def end_state(x, v, rest, n, fp, order, kv_on, feed, seg, force_reel, force_uav)
         t_end = np.sqrt(force_uav[0] ** 2 + force_uav[1] ** 2 + force_uav[2] ** 2) if tens[n - 2] > 0.0 else 0.0
     return t_exit, t_end
 
+
+
+@njit(cache=True)
+def node_arc(rest, order, out):
+    """Unstretched distance of each node from the guide way (m, into ``out``, 2 len(rest) + 1 for
+    quadratic elements, whose middle node is halfway) for element rest lengths ``rest``.
+    """
+    s = 0.0
+    out[0] = 0.0
+    for e in range(rest.size):
+        if order == 2:
+            out[2 * e + 1] = s + 0.5 * rest[e]
+        s += rest[e]
+        out[order * (e + 1)] = s
+
+
+@njit(cache=True)
+def lowest_point(x, n, order, out):
+    """The lowest point of the tether (m, into ``out``): the lowest node; on quadratic elements
+    the lowest point of an element's parabola (Eq. 8.23) where it lies inside the element and
+    below that node (the first such minimum in node order).
+    """
+    best = 0
+    for i in range(1, n):
+        if x[i, 2] < x[best, 2]:
+            best = i
+    for c in range(3):
+        out[c] = x[best, c]
+    if order == 2:
+        for e in range((n - 1) // 2):
+            j = 2 * e
+            curve = x[j, 2] - 2.0 * x[j + 1, 2] + x[j + 2, 2]
+            if curve <= 0.0:
+                continue
+            z = 0.5 * (x[j, 2] - x[j + 2, 2]) / curve
+            if abs(z) >= 1.0:
+                continue
+            wa, wm, wb = 0.5 * (z * z - z), 1.0 - z * z, 0.5 * (z * z + z)
+            low = wa * x[j, 2] + wm * x[j + 1, 2] + wb * x[j + 2, 2]
+            if low < out[2]:
+                for c in range(3):
+                    out[c] = wa * x[j, c] + wm * x[j + 1, c] + wb * x[j + 2, c]

@@ -316,14 +316,10 @@ class FemTether:
 
     def _node_arc(self, rest: np.ndarray) -> np.ndarray:
         """Unstretched distance of each node from the guide way for element rest lengths ``rest``
-        (a quadratic element's middle node halfway), m.
+        (a quadratic element's middle node halfway), m (:func:`fem_kernels.node_arc`).
         """
-        ends = np.concatenate([[0.0], np.cumsum(rest)])
-        if self.order == 1:
-            return ends
-        out = np.empty(2 * rest.size + 1)
-        out[0::2] = ends
-        out[1::2] = ends[:-1] + 0.5 * rest
+        out = np.empty(self.order * rest.size + 1)
+        fk.node_arc(rest, self.order, out)
         return out
 
     def advance(self, t_a: float, t_b: float, n_sub: int, g_tab: np.ndarray, u_tab: np.ndarray | None,
@@ -407,23 +403,12 @@ class FemTether:
 
     def lowest_point(self) -> np.ndarray:
         """The lowest point of the tether, m: the lowest node of linear elements; on quadratic
-        elements the lowest point of each element's parabola (Eq. 8.23), where it lies inside.
+        elements the lowest point of each element's parabola (Eq. 8.23), where it lies inside
+        (:func:`fem_kernels.lowest_point`).
         """
-        x = self.x[:self.n]
-        best = x[int(np.argmin(x[:, 2]))].copy()
-        if self.order == 2:
-            xa, xm, xb = x[0:-1:2], x[1::2], x[2::2]
-            curve = xa[:, 2] - 2.0 * xm[:, 2] + xb[:, 2]
-            with np.errstate(divide='ignore', invalid='ignore'):
-                zeta = np.where(curve > 0.0, 0.5 * (xa[:, 2] - xb[:, 2]) / curve, 2.0)
-            inside = np.abs(zeta) < 1.0
-            if np.any(inside):
-                z = zeta[inside][:, None]
-                pts = 0.5 * (z * z - z) * xa[inside] + (1.0 - z * z) * xm[inside] + 0.5 * (z * z + z) * xb[inside]
-                low = pts[int(np.argmin(pts[:, 2]))]
-                if low[2] < best[2]:
-                    best = low
-        return best
+        out = np.empty(3)
+        fk.lowest_point(self.x, self.n, self.order, out)
+        return out
 
     def energy(self) -> float:
         """Mechanical energy the balance counts (:func:`fem_kernels.energy`), J."""
