@@ -266,7 +266,7 @@ class PlantNode(Node):
         stamp = tick.stamp
         self._publish_state(stamp, out)
         self._publish_wrench(stamp, out)
-        self._publish_truth(stamp, t, inputs, out)
+        self._publish_truth(stamp, t, out)
         if self.steps % self.nodes_every == 0:
             self._publish_nodes(stamp, out)
         if self.steps % self.markers_every == 0:
@@ -304,15 +304,10 @@ class PlantNode(Node):
         _set(msg.wrench.torque, out.moment_on_uav)
         self.wrench_pub.publish(msg)
 
-    def _publish_truth(self, stamp, t: float, inputs: PlantInputs, out: PlantOutputs) -> None:
+    def _publish_truth(self, stamp, t: float, out: PlantOutputs) -> None:
         """UAV attachment minus guide way; velocities exact, acceleration a backward difference over one step."""
-        _, guide_velocity = self._guide_way(inputs)
-        rotation = quaternion_rotation(inputs.uav_quaternion, 'the UAV orientation')
-        _, uav_velocity = point_on_body(inputs.uav_position, rotation, inputs.uav_velocity,
-                                        rotation.apply(inputs.uav_angular_velocity),
-                                        np.asarray(self.plant.config.uav.attach_offset, dtype=float))
         position = out.uav_end - out.reel_end
-        velocity = uav_velocity - guide_velocity
+        velocity = out.uav_end_velocity - out.reel_end_velocity
         acceleration = np.zeros(3)
         if self.truth is not None and t > self.truth[0]:
             acceleration = (velocity - self.truth[2]) / (t - self.truth[0])

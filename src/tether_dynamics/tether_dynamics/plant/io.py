@@ -61,6 +61,7 @@ class PlantOutputs:
     Attributes:
         t: s.  fidelity : 'quasi_static', 'linear' or 'quadratic'.  element_count : elements now.
         reel_end, uav_end: (3,) tether ends (guide way, UAV attachment point), m.
+        reel_end_velocity, uav_end_velocity: (3,) their velocities, m/s.
         deployed_length: unstretched deployed length, m.  payout_rate : m/s, + out.
         spool_angle: rad.  spool_rate : rad/s, + pays out.  reel_torque : N m, the motor torque
             applied (input 'torque') or the one the prescribed rate required (input 'spool_rate').
@@ -89,6 +90,8 @@ class PlantOutputs:
     element_count: int
     reel_end: np.ndarray
     uav_end: np.ndarray
+    reel_end_velocity: np.ndarray
+    uav_end_velocity: np.ndarray
     deployed_length: float
     payout_rate: float
     spool_angle: float

@@ -164,10 +164,10 @@ class TetherPlant:
             upos, uvel = np.asarray(inputs.uav_position, float), np.asarray(inputs.uav_velocity, float)
             uacc, uquat = np.zeros(3), rot.as_quat()
             uom = np.asarray(inputs.uav_angular_velocity, float)
-            end = self._uav.position
+            end, end_velocity = self._uav.position, self._uav.velocity
         else:
             upos, uvel, uacc, uquat, uom = self._uav_state()
-            end = self._attach()[0]
+            end, end_velocity = self._attach()
         a = self._guide.position
         length = float(self._rs[bodies.RS_LENGTH])
         mu, g = cfg.mass_per_length, cfg.gravity
@@ -212,7 +212,8 @@ class TetherPlant:
         sea = float(inputs.sea_surface_height)
         return PlantOutputs(
             t=t, fidelity=cfg.fidelity, element_count=self._fem.elements if self._fem is not None else len(nodes) - 1,
-            reel_end=a.copy(), uav_end=end.copy(),
+            reel_end=a.copy(), uav_end=end.copy(), reel_end_velocity=self._guide.velocity.copy(),
+            uav_end_velocity=end_velocity.copy(),
             deployed_length=length, payout_rate=cfg.reel.spool_radius * float(self._rs[bodies.RS_RATE]),
             spool_angle=float(self._rs[bodies.RS_ANGLE]), spool_rate=float(self._rs[bodies.RS_RATE]),
             reel_torque=float(self._rs[bodies.RS_TORQUE]), at_stop=bool(self._rs[bodies.RS_STOP]),
