@@ -27,7 +27,8 @@ from __future__ import annotations
 import numpy as np
 
 from tether_common.constants import GRAVITY
-from tether_dynamics.plant.quasi_static import end_tensions, tension_a_slope
+from tether_dynamics.plant.quasi_static import end_tensions
+from tether_dynamics.plant.quasi_static import tension_a_slope
 
 GUIDE = np.zeros(3)
 

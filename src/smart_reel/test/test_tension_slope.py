@@ -64,4 +64,3 @@ def test_slope_is_the_central_difference_of_the_plant_tension(geometry: tuple, t
     assert math.isfinite(slope)
     assert slope == pytest.approx(_central_difference(dr, dz, length, mu, ea), rel=1e-5, abs=1e-6)
     assert TetherStiffness(mu, ea, G)(dr, dz, length) == -slope
-

@@ -58,7 +58,8 @@ def reference_shape(guide_way: np.ndarray, uav: np.ndarray, n: int = REFERENCE_P
     return quasi_static.solve(a, b, length, THESIS_LINEAR_DENSITY, math.inf, GRAVITY).points(a, n)
 
 
-def _marker(ns: str, kind: int, color: tuple[float, float, float, float]) -> Marker:
+def _marker(ns: str, kind: int, color: tuple[float, float, float, float],
+            scale: tuple[float, float, float]) -> Marker:
     marker = Marker()
     marker.header.frame_id = FRAME
     marker.ns = ns
@@ -67,6 +68,7 @@ def _marker(ns: str, kind: int, color: tuple[float, float, float, float]) -> Mar
     marker.action = Marker.ADD
     marker.pose.orientation.w = 1.0
     marker.color.r, marker.color.g, marker.color.b, marker.color.a = color
+    marker.scale.x, marker.scale.y, marker.scale.z = scale
     return marker
 
 
@@ -82,18 +84,12 @@ class SceneMarkers:
     """
 
     def __init__(self) -> None:
-        self.tether = _marker('tether', Marker.LINE_STRIP, COLORS['tether'])
-        self.tether.scale.x = 0.03
-        self.reference = _marker('reference', Marker.LINE_STRIP, COLORS['reference'])
-        self.reference.scale.x = 0.015
-        self.reel = _marker('reel', Marker.CYLINDER, COLORS['reel'])
-        self.reel.scale.x, self.reel.scale.y, self.reel.scale.z = 0.25, 0.25, 0.12
-        self.platform = _marker('platform', Marker.CUBE, COLORS['platform'])
-        self.platform.scale.x, self.platform.scale.y, self.platform.scale.z = 0.46, 0.40, 0.03
-        self.uav = _marker('uav', Marker.SPHERE, COLORS['uav'])
-        self.uav.scale.x, self.uav.scale.y, self.uav.scale.z = 0.3, 0.3, 0.12
-        self.lowest = _marker('lowest_point', Marker.SPHERE, COLORS['lowest_point'])
-        self.lowest.scale.x, self.lowest.scale.y, self.lowest.scale.z = 0.08, 0.08, 0.08
+        self.tether = _marker('tether', Marker.LINE_STRIP, COLORS['tether'], (0.03, 0.0, 0.0))
+        self.reference = _marker('reference', Marker.LINE_STRIP, COLORS['reference'], (0.015, 0.0, 0.0))
+        self.reel = _marker('reel', Marker.CYLINDER, COLORS['reel'], (0.25, 0.25, 0.12))
+        self.platform = _marker('platform', Marker.CUBE, COLORS['platform'], (0.46, 0.40, 0.03))
+        self.uav = _marker('uav', Marker.SPHERE, COLORS['uav'], (0.3, 0.3, 0.12))
+        self.lowest = _marker('lowest_point', Marker.SPHERE, COLORS['lowest_point'], (0.08, 0.08, 0.08))
         self.array = MarkerArray(markers=[self.tether, self.reference, self.reel, self.platform, self.uav,
                                           self.lowest])
 

@@ -808,7 +808,6 @@ def end_state(x, v, rest, n, fp, order, kv_on, feed, seg, force_reel, force_uav)
     return t_exit, t_end
 
 
-
 @njit(cache=True)
 def node_arc(rest, order, out):
     """Unstretched distance of each node from the guide way (m, into ``out``, 2 len(rest) + 1 for

@@ -142,13 +142,6 @@ def end_tensions(a: np.ndarray, b: np.ndarray, length: float, mu: float, ea: flo
     return t_a, t_b, math.cos(beta) * horizontal + np.array([0.0, 0.0, math.sin(beta)])
 
 
-def _tension_a(dr: float, dz: float, length: float, mu: float, ea: float, g: float) -> float:
-    """Tension at A (N) as :func:`end_tensions` computes it, ``dr`` already 0 for a vertical hang."""
-    ls = _stretched_length(dr, dz, length, mu, ea, g)
-    mu_s = mu * length / ls
-    return catenary.tension_b_point(dr, dz, ls, mu_s, g) - mu_s * g * dz
-
-
 def _hanging(dr: float, dz: float, chord: float, u: float) -> tuple[float, float, float, float, float]:
     """The catenary through (dr > 0, dz) of parameter u = dr/(2a), Sec. 3.1.1: its length L_s,
     the slack L_s - chord, tau = T_B/(mu_s g) (Eq. 3.12, a length), dtau/dL_s and dL_s/du.
@@ -239,4 +232,5 @@ def tension_a_slope(dr: float, dz: float, length: float, mu: float, ea: float, g
     if root is not None:
         return _implicit_slope(length, dz, *root, mu * g * length, ea)
     h = _SLOPE_STEP * length
-    return (_tension_a(dr, dz, length + h, mu, ea, g) - _tension_a(dr, dz, length - h, mu, ea, g)) / (2.0 * h)
+    a, b = np.zeros(3), np.array([dr, 0.0, dz])
+    return (end_tensions(a, b, length + h, mu, ea, g)[0] - end_tensions(a, b, length - h, mu, ea, g)[0]) / (2.0 * h)
