@@ -15,11 +15,19 @@ specification, such as ``use_sim_time``), is printed as one line
 status 2, without a traceback; so is a :class:`ConfigurationError` raised while the node
 runs (an input breaking the lockstep's rules). So are ``--ros-args`` rcl cannot parse (a list mixing
 types): rcl's own log line about them is replaced by the one line.
+
+Destroying the nodes can hang: Fast DDS 2.14 may deadlock in ``DomainParticipant::set_listener``
+when the last node's participant is destroyed while a discovery callback for a vanishing remote
+participant runs (seen once in a test run: the platform node spun there, holding the GIL, for
+over ten minutes after SIGINT). A watchdog outside the GIL (``faulthandler``) then prints every
+thread's stack and ends the process with status 1 after :data:`SHUTDOWN_TIMEOUT`, so no node is
+left behind.
 """
 
 from __future__ import annotations
 
 import cProfile
+import faulthandler
 import os
 import re
 import sys
@@ -40,6 +48,8 @@ from rclpy.node import Node
 
 
 SPIN_TIMEOUT = 0.5
+SHUTDOWN_TIMEOUT = 10.0
+"""Seconds the nodes' destruction and rclpy's shutdown may take before the watchdog ends the process."""
 EXECUTOR_VARIABLE = 'TETHERSIM_EXECUTOR'
 PROFILE_VARIABLE = 'TETHERSIM_PROFILE'
 
@@ -111,11 +121,15 @@ def run_nodes(factories: dict[str, Callable[[], Node]], args: list[str] | None =
         # SIGTERM shut the context down while a node was being built: the rcl call that
         # failed on the dead context is the normal end, not an error
     finally:
-        if links is not None:
-            links.close()
-        for node in nodes:
-            node.destroy_node()
-        rclpy.try_shutdown()
+        faulthandler.dump_traceback_later(SHUTDOWN_TIMEOUT, exit=True)
+        try:
+            if links is not None:
+                links.close()
+            for node in nodes:
+                node.destroy_node()
+            rclpy.try_shutdown()
+        finally:
+            faulthandler.cancel_dump_traceback_later()
     return status
 
 
