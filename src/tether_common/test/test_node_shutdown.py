@@ -19,6 +19,12 @@ NODE = textwrap.dedent('''
 
         def __init__(self):
             super().__init__('hanging_double')
+            self.timer = self.create_timer(0.05, self.spinning)
+
+        def spinning(self):
+            # From the executor: the node is built and in the list run_nodes destroys, so SIGINT now
+            # reaches the destruction (sent while the constructor ran, it ended the build instead).
+            self.timer.cancel()
             print('spinning', flush=True)
 
         def destroy_node(self):
