@@ -9,6 +9,7 @@ import pytest
 from geometry_msgs.msg import PointStamped
 from rclpy.node import Node
 from rclpy.parameter import Parameter
+from rclpy.qos import ReliabilityPolicy
 from rosgraph_msgs.msg import Clock
 from tether_msgs.msg import LockstepAck
 
@@ -156,7 +157,7 @@ def test_a_node_joins_only_once_the_recorder_is_ready(ros_context, tmp_path, mon
 def test_nodes_of_one_process_hand_messages_over_and_keep_their_readers_in_the_graph(ros_context):
     """link_in_process: a lockstep input published in the process takes each message as its own copy, so the
     producer may refill one object; a plain subscription gets it at once, inside the publish; the inputs' DDS
-    readers stay in the graph, matched, and take nothing.
+    readers stay in the graph, matched, best effort, and take nothing.
     """
     producer = Node('producer', context=ros_context)
     consumer = Node('consumer', context=ros_context)
@@ -173,6 +174,8 @@ def test_nodes_of_one_process_hand_messages_over_and_keep_their_readers_in_the_g
     assert all(isinstance(publisher, HandoffPublisher) for publisher in (inputs, side, clock))
     assert consumer.count_subscribers('/in') == 1 and consumer.count_subscribers('/side') == 1
     assert not any(s.topic_name in ('/in', '/side') for s in consumer.subscriptions)  # nothing for the executor
+    assert {info.qos_profile.reliability for topic in ('/in', '/side')
+            for info in consumer.get_subscriptions_info_by_topic(topic)} == {ReliabilityPolicy.BEST_EFFORT}
     executor = make_executor(ros_context)
     executor.add_node(producer)
     executor.add_node(consumer)

@@ -40,3 +40,7 @@ first value only once its publisher has matched every node's subscription."""
 LATCHED = _stream(1)
 LOCKSTEP_ACK = LATCHED
 LOCKSTEP_ACK_READER = _stream(1000)
+IDLE_READER = QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=1, reliability=ReliabilityPolicy.BEST_EFFORT,
+                         durability=DurabilityPolicy.VOLATILE)
+"""The DDS reader that keeps an in-process subscription in the graph (:func:`tether_common.lockstep.link_in_process`)
+and takes nothing: best effort, so its writer sends it no heartbeats and waits for no acks; one sample kept."""
