@@ -111,7 +111,7 @@ class EstimatorNode(Node):
         """Publish the estimate, the FOH baseline and the rejections of one tick."""
         msg = self.estimate_msg
         msg.header.stamp = to_stamp(t_ns * 1e-9)
-        msg.dz, msg.dz_rate, msg.dz_accel, msg.accel_bias_reel, msg.accel_bias_uav = (float(v) for v in est.x)
+        msg.dz, msg.dz_rate, msg.dz_accel, msg.accel_bias_reel, msg.accel_bias_uav = est.x.ravel().tolist()
         msg.covariance = est.P.ravel().tolist()
         msg.horizontal.x, msg.horizontal.y = float(est.horizontal[0]), float(est.horizontal[1])
         msg.initialized = est.initialized

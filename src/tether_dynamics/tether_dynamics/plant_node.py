@@ -104,7 +104,7 @@ def _rigid_motion(pose, twist) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.n
 
 
 def _set(target, values) -> None:
-    target.x, target.y, target.z = (float(v) for v in values)
+    target.x, target.y, target.z = np.asarray(values, dtype=float).tolist()
 
 
 def plant_config(params: dict, initial_length: float) -> PlantConfig:
