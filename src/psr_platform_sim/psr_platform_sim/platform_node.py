@@ -38,6 +38,8 @@ from psr_platform_sim.simulator import PlatformSample
 from psr_platform_sim.simulator import PlatformSimulator
 from psr_platform_sim.simulator import platform_imu
 from psr_platform_sim.waves import ProfileError
+from tether_common.geometry_fill import fill_quaternion
+from tether_common.geometry_fill import fill_vector
 from tether_common.covariance import diagonal_3x3
 from tether_common.lockstep import Lockstep
 from tether_common.lockstep import Tick
@@ -113,15 +115,13 @@ class PlatformNode(Node):
         self.state_pub.publish(msg)
         pose = self.pose_msg
         pose.header.stamp = stamp
-        pose.pose.position.x, pose.pose.position.y, pose.pose.position.z = (float(v) for v in s.position)
-        q = pose.pose.orientation
-        q.x, q.y, q.z, q.w = (float(v) for v in s.quaternion)
+        fill_vector(pose.pose.position, s.position)
+        fill_quaternion(pose.pose.orientation, s.quaternion)
         self.pose_pub.publish(pose)
         twist = self.twist_msg
         twist.header.stamp = stamp
-        v, w = twist.twist.linear, twist.twist.angular
-        v.x, v.y, v.z = (float(c) for c in s.reel_velocity)
-        w.x, w.y, w.z = (float(c) for c in s.world_angular_velocity)
+        fill_vector(twist.twist.linear, s.reel_velocity)
+        fill_vector(twist.twist.angular, s.world_angular_velocity)
         self.twist_pub.publish(twist)
 
     def imu_callback(self, tick: Tick) -> None:
@@ -130,10 +130,9 @@ class PlatformNode(Node):
         gyro, accel = self.imu_model.measure(s.angular_velocity, s.specific_force)
         msg = self.imu_msg
         msg.header.stamp = tick.stamp
-        q = msg.orientation
-        q.x, q.y, q.z, q.w = (float(v) for v in s.quaternion)
-        msg.angular_velocity.x, msg.angular_velocity.y, msg.angular_velocity.z = (float(v) for v in gyro)
-        msg.linear_acceleration.x, msg.linear_acceleration.y, msg.linear_acceleration.z = (float(v) for v in accel)
+        fill_quaternion(msg.orientation, s.quaternion)
+        fill_vector(msg.angular_velocity, gyro)
+        fill_vector(msg.linear_acceleration, accel)
         self.imu_pub.publish(msg)
 
 

@@ -59,6 +59,8 @@ from relpos_estimator.sensors import SuiteOutput
 from relpos_estimator.sensors import Truth
 from relpos_estimator.sensors_params import PARAMETERS
 from relpos_estimator.sensors_params import configs
+from tether_common.geometry_fill import fill_quaternion
+from tether_common.geometry_fill import fill_vector
 from tether_common.covariance import diagonal_3x3
 from tether_common.node_main import ConfigurationError
 from tether_common.node_main import run_node
@@ -179,9 +181,9 @@ class SensorsNode(Node):
         msg = RelativePosition()
         msg.header.stamp = to_stamp(t_ns * 1e-9)
         msg.header.frame_id = 'world'
-        msg.position.x, msg.position.y, msg.position.z = (float(v) for v in truth.relative_position)
-        msg.velocity.x, msg.velocity.y, msg.velocity.z = (float(v) for v in truth.relative_velocity)
-        msg.acceleration.x, msg.acceleration.y, msg.acceleration.z = (float(v) for v in truth.relative_acceleration)
+        fill_vector(msg.position, truth.relative_position)
+        fill_vector(msg.velocity, truth.relative_velocity)
+        fill_vector(msg.acceleration, truth.relative_acceleration)
         self.truth_pub.publish(msg)
 
     def publish(self, out: SuiteOutput) -> None:
@@ -191,9 +193,8 @@ class SensorsNode(Node):
             msg.header.stamp = to_stamp(fix.arrival)
             msg.header.frame_id = 'world'
             msg.fix_time = to_stamp(fix.fix_time)
-            msg.relative_position.x, msg.relative_position.y, msg.relative_position.z = (
-                float(v) for v in fix.position)
-            msg.position_std.x, msg.position_std.y, msg.position_std.z = (float(v) for v in fix.std)
+            fill_vector(msg.relative_position, fix.position)
+            fill_vector(msg.position_std, fix.std)
             msg.status = fix.status
             msg.sequence = fix.sequence
             self.fix_pub.publish(msg)
@@ -206,8 +207,8 @@ class SensorsNode(Node):
             msg.kind_name = fault.kind
             msg.fix_time = to_stamp(fault.fix_time)
             msg.sequence = fault.sequence
-            msg.truth.x, msg.truth.y, msg.truth.z = (float(v) for v in fault.truth)
-            msg.reported.x, msg.reported.y, msg.reported.z = (float(v) for v in fault.reported)
+            fill_vector(msg.truth, fault.truth)
+            fill_vector(msg.reported, fault.reported)
             self.fault_pub.publish(msg)
         self.reel_pub.publish(fill_imu(self.reel_msg, out.reel))
         self.uav_pub.publish(fill_imu(self.uav_msg, out.uav))
@@ -227,11 +228,9 @@ def imu_message(frame: str, spec: ImuSpec) -> Imu:
 def fill_imu(msg: Imu, sample: ImuSample) -> Imu:
     """``msg`` with the sample's stamp, orientation, angular velocity and specific force."""
     msg.header.stamp = to_stamp(sample.t)
-    q = msg.orientation
-    q.x, q.y, q.z, q.w = (float(v) for v in sample.quaternion)
-    msg.angular_velocity.x, msg.angular_velocity.y, msg.angular_velocity.z = (float(v) for v in sample.gyro)
-    a = msg.linear_acceleration
-    a.x, a.y, a.z = (float(v) for v in sample.accel)
+    fill_quaternion(msg.orientation, sample.quaternion)
+    fill_vector(msg.angular_velocity, sample.gyro)
+    fill_vector(msg.linear_acceleration, sample.accel)
     return msg
 
 

@@ -25,6 +25,8 @@ from geometry_msgs.msg import Point
 from visualization_msgs.msg import Marker
 from visualization_msgs.msg import MarkerArray
 
+from tether_common.geometry_fill import fill_quaternion
+from tether_common.geometry_fill import fill_vector
 from tether_common.vector_lists import fill_xyz
 from tether_dynamics.plant import quasi_static
 from tether_dynamics.statics.catenary import GRAVITY
@@ -73,9 +75,8 @@ def _marker(ns: str, kind: int, color: tuple[float, float, float, float],
 
 
 def _place(marker: Marker, position: np.ndarray, quaternion: np.ndarray) -> None:
-    marker.pose.position.x, marker.pose.position.y, marker.pose.position.z = (float(v) for v in position)
-    q = marker.pose.orientation
-    q.x, q.y, q.z, q.w = (float(v) for v in quaternion)
+    fill_vector(marker.pose.position, position)
+    fill_quaternion(marker.pose.orientation, quaternion)
 
 
 class SceneMarkers:

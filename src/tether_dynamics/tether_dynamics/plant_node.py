@@ -44,6 +44,7 @@ from tether_msgs.msg import TetherNodes
 from tether_msgs.msg import TetherState
 from visualization_msgs.msg import MarkerArray
 
+from tether_common.geometry_fill import fill_vector
 from tether_common.lockstep import Input
 from tether_common.lockstep import Lockstep
 from tether_common.lockstep import Tick
@@ -101,10 +102,6 @@ def _rigid_motion(pose, twist) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.n
         return None
     return (_vector(pose.pose.position), _quaternion(pose.pose.orientation),
             _vector(twist.twist.linear), _vector(twist.twist.angular))
-
-
-def _set(target, values) -> None:
-    target.x, target.y, target.z = np.asarray(values, dtype=float).tolist()
 
 
 def plant_config(params: dict, initial_length: float) -> PlantConfig:
@@ -280,16 +277,16 @@ class PlantNode(Node):
         msg.header.stamp = stamp
         msg.fidelity = out.fidelity
         msg.element_count = out.element_count if out.fidelity != 'quasi_static' else 0
-        _set(msg.reel_end, out.reel_end)
-        _set(msg.uav_end, out.uav_end)
-        _set(msg.lowest_point, out.lowest_point)
+        fill_vector(msg.reel_end, out.reel_end)
+        fill_vector(msg.uav_end, out.uav_end)
+        fill_vector(msg.lowest_point, out.lowest_point)
         msg.deployed_length = out.deployed_length
         msg.tension_reel, msg.tension_uav = out.tension_reel, out.tension_uav
         msg.departure_angle, msg.arrival_angle = out.departure_angle, out.arrival_angle
         msg.max_strain = out.max_strain
-        _set(msg.force_on_reel, out.force_on_reel)
-        _set(msg.force_on_uav, out.force_on_uav)
-        _set(msg.moment_on_uav, out.moment_on_uav)
+        fill_vector(msg.force_on_reel, out.force_on_reel)
+        fill_vector(msg.force_on_uav, out.force_on_uav)
+        fill_vector(msg.moment_on_uav, out.moment_on_uav)
         msg.payout_rate, msg.spool_angle, msg.spool_rate = out.payout_rate, out.spool_angle, out.spool_rate
         msg.reel_work = out.reel_work
         msg.clearance_deck, msg.clearance_sea, msg.fouling = out.clearance_deck, out.clearance_sea, out.fouling
@@ -300,8 +297,8 @@ class PlantNode(Node):
     def _publish_wrench(self, stamp, out: PlantOutputs) -> None:
         msg = self.wrench_msg
         msg.header.stamp = stamp
-        _set(msg.wrench.force, out.force_on_uav)
-        _set(msg.wrench.torque, out.moment_on_uav)
+        fill_vector(msg.wrench.force, out.force_on_uav)
+        fill_vector(msg.wrench.torque, out.moment_on_uav)
         self.wrench_pub.publish(msg)
 
     def _publish_truth(self, stamp, t: float, out: PlantOutputs) -> None:
@@ -314,9 +311,9 @@ class PlantNode(Node):
         self.truth = (t, position, velocity)
         msg = self.truth_msg
         msg.header.stamp = stamp
-        _set(msg.position, position)
-        _set(msg.velocity, velocity)
-        _set(msg.acceleration, acceleration)
+        fill_vector(msg.position, position)
+        fill_vector(msg.velocity, velocity)
+        fill_vector(msg.acceleration, acceleration)
         self.truth_pub.publish(msg)
 
     def _publish_nodes(self, stamp, out: PlantOutputs) -> None:

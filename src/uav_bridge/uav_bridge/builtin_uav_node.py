@@ -47,6 +47,8 @@ from tether_msgs.msg import UavState
 from tether_msgs.srv import SetMode
 from tether_msgs.srv import Takeoff
 
+from tether_common.geometry_fill import fill_quaternion
+from tether_common.geometry_fill import fill_vector
 from tether_common.node_main import ConfigurationError
 from tether_common.node_main import run_node
 from tether_common.qos import COMMAND
@@ -62,8 +64,6 @@ from tether_common.rotation import quaternion_rotation
 from uav_bridge.builtin_uav import BuiltinUav
 from uav_bridge.builtin_uav import BuiltinUavConfig
 from uav_bridge.builtin_uav_params import PARAMETERS
-from uav_bridge.ros_fill import fill_quaternion
-from uav_bridge.ros_fill import fill_vector
 from uav_bridge.ros_fill import fill_pose_and_twist
 
 

@@ -42,6 +42,8 @@ from tether_msgs.msg import TetherState
 from rclpy.node import Node
 from sensor_msgs.msg import Imu
 
+from tether_common.geometry_fill import fill_quaternion
+from tether_common.geometry_fill import fill_vector
 from tether_common.lockstep import Input
 from tether_common.lockstep import Lockstep
 from tether_common.lockstep import Tick
@@ -60,8 +62,6 @@ from uav_bridge.json_physics_server import JsonPhysicsServer
 from uav_bridge.json_physics_server import PlatformPose
 from uav_bridge.json_physics_server import StraightTether
 from uav_bridge.quad_motors import QuadXConfig
-from uav_bridge.ros_fill import fill_quaternion
-from uav_bridge.ros_fill import fill_vector
 from uav_bridge.ros_fill import pose_and_twist
 from uav_bridge.sitl_json import physics_port
 

@@ -67,6 +67,8 @@ from tether_msgs.msg import UavState
 from tether_msgs.srv import SetMode
 from tether_msgs.srv import Takeoff
 
+from tether_common.geometry_fill import fill_quaternion
+from tether_common.geometry_fill import fill_vector
 from tether_common.node_main import ConfigurationError
 from tether_common.node_main import make_executor
 from tether_common.node_main import run_node
@@ -86,8 +88,6 @@ from uav_bridge.mavlink_bridge_params import PARAMETERS
 from uav_bridge.session import CommandResult
 from uav_bridge.session import LinkStatus
 from uav_bridge.session import MavlinkSession
-from uav_bridge.ros_fill import fill_quaternion
-from uav_bridge.ros_fill import fill_vector
 from uav_bridge.ros_fill import pose_and_twist
 from uav_bridge.session import SessionConfig
 

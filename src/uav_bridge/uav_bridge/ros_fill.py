@@ -1,19 +1,12 @@
-"""Fill geometry_msgs vectors and quaternions from arrays (shared by the UAV nodes)."""
+"""The UAV's ``/uav/pose`` and ``/uav/twist`` from arrays (shared by the UAV nodes)."""
 
 from __future__ import annotations
 
 from geometry_msgs.msg import PoseStamped
 from geometry_msgs.msg import TwistStamped
 
-
-def fill_vector(target, values) -> None:
-    """Set x, y, z of a Vector3 or Point from three numbers."""
-    target.x, target.y, target.z = (float(v) for v in values)
-
-
-def fill_quaternion(target, values) -> None:
-    """Set x, y, z, w of a Quaternion from (x, y, z, w)."""
-    target.x, target.y, target.z, target.w = (float(v) for v in values)
+from tether_common.geometry_fill import fill_quaternion
+from tether_common.geometry_fill import fill_vector
 
 
 def pose_and_twist(stamp, position, quaternion, velocity, angular_velocity) -> tuple[PoseStamped, TwistStamped]:
