@@ -27,7 +27,7 @@ from visualization_msgs.msg import MarkerArray
 
 from tether_common.geometry_fill import fill_quaternion
 from tether_common.geometry_fill import fill_vector
-from tether_common.vector_lists import fill_xyz
+from tether_common.geometry_fill import fill_xyz
 from tether_dynamics.plant import quasi_static
 from tether_dynamics.statics.catenary import GRAVITY
 from tether_dynamics.statics.catenary import THESIS_LINEAR_DENSITY

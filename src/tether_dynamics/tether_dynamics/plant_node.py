@@ -55,7 +55,7 @@ from tether_common.qos import SENSOR
 from tether_common.qos import STATE
 from tether_common.ros_parameters import declare_parameters
 from tether_common.rotation import quaternion_rotation
-from tether_common.vector_lists import fill_xyz
+from tether_common.geometry_fill import fill_xyz
 from tether_dynamics.plant import PlantConfig
 from tether_dynamics.plant import PlantConfigError
 from tether_dynamics.plant import PlantInputs
