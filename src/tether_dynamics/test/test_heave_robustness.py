@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 import pytest
 
@@ -64,6 +66,17 @@ def test_vertical_tether_has_no_tolerance() -> None:
     np.testing.assert_array_equal(rob.length, [10.0, 40.0])
     np.testing.assert_array_equal(rob.heave, [0.0, 0.0])
     assert heave_robustness.robust_length_point(0.0, 10.0) == (10.0, 0.0)
+
+
+def test_nearly_flat_tether_has_its_chord_and_no_tolerance() -> None:
+    """A UAV passing the reel's height 11.8 m away (a landing in outdoor_flight): at dz = 1e-6 m the
+    slack catenary's tension had lost its digits and Brent's bracket its sign change (ValueError)."""
+    for dz in (1e-4, 1e-5, 3e-6, 1e-6, 3e-7, 1e-8, 1e-12):
+        length, heave = heave_robustness.robust_length_point(11.839, dz)
+        chord = math.hypot(11.839, dz)
+        assert chord <= length <= heave_robustness.slack_length_point(11.839, dz) + 1e-12
+        assert 0.0 <= heave <= 10 * dz
+    assert heave_robustness.robust_length_point(11.839, 1e-6)[1] == 0.0
 
 
 def test_uav_level_or_below_is_refused() -> None:

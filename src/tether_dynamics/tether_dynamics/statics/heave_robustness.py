@@ -225,11 +225,6 @@ def robust_length_point(dr: float, dz: float, rise: float = 0.05,
         length, heave = family(v)
         return length - math.hypot(dr, dz + heave)
 
-    if reach(v_slack) <= 0.0:
-        # Slack length within rounding of the chord: a vertical tether, no tolerance.
-        return max(family(v_slack)[0], math.hypot(dr, dz)), 0.0
-    v_reach = brentq(reach, 1e-12 * v_slack, v_slack, xtol=1e-15 * v_slack, rtol=1e-15)
-
     def excess_tension(v: float) -> float:
         length, heave = family(v)
         chord = math.hypot(dr, dz + heave)
@@ -237,6 +232,11 @@ def robust_length_point(dr: float, dz: float, rise: float = 0.05,
                                            linear_density, gravity)
         return math.log(tension / t_rob) if math.isfinite(tension) else 800.0
 
+    if reach(v_slack) <= 0.0 or excess_tension(v_slack) >= 0.0:
+        # Slack length within rounding of the chord (a vertical tether, or one so flat, dz/dr
+        # about 1e-7, that its catenary tension has lost its digits): no tolerance.
+        return max(family(v_slack)[0], math.hypot(dr, dz)), 0.0
+    v_reach = brentq(reach, 1e-12 * v_slack, v_slack, xtol=1e-15 * v_slack, rtol=1e-15)
     v_rob = brentq(excess_tension, v_reach, v_slack, xtol=1e-14 * v_slack, rtol=1e-15)
     length, heave = family(v_rob)
     return length, heave
