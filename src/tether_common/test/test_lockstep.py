@@ -14,7 +14,8 @@ from rosgraph_msgs.msg import Clock
 from tether_msgs.msg import LockstepAck
 
 from tether_common.lockstep import ACK_TOPIC
-from tether_common.lockstep import HandoffPublisher
+from tether_common import cdr
+from tether_common.lockstep import GroupPublisher
 from tether_common.lockstep import JOIN_SETTLE
 from tether_common.lockstep import RECORDER_READY_VARIABLE
 from tether_common.lockstep import Input
@@ -171,7 +172,8 @@ def test_nodes_of_one_process_hand_messages_over_and_keep_their_readers_in_the_g
                    inputs=[Input('/in', PointStamped, period=0.01, delay=0.01)])
     links = link_in_process([producer, consumer])
     # the lockstep's /clock subscription is a plain one: linked too
-    assert all(isinstance(publisher, HandoffPublisher) for publisher in (inputs, side, clock))
+    assert all(isinstance(publisher, GroupPublisher) for publisher in (inputs, side, clock))
+    assert inputs.serialize is cdr.serializer(PointStamped)  # sent over DDS as tether_common.cdr's bytes
     assert consumer.count_subscribers('/in') == 1 and consumer.count_subscribers('/side') == 1
     assert not any(s.topic_name in ('/in', '/side') for s in consumer.subscriptions)  # nothing for the executor
     assert {info.qos_profile.reliability for topic in ('/in', '/side')

@@ -14,7 +14,6 @@ with a call per nested message), against 36–51 µs to serialize and deserializ
 from __future__ import annotations
 
 import array
-import importlib
 from collections.abc import Callable
 from functools import cache
 from typing import Any
@@ -23,6 +22,8 @@ import numpy as np
 from rosidl_parser.definition import AbstractNestedType
 from rosidl_parser.definition import BasicType
 from rosidl_parser.definition import NamespacedType
+
+from tether_common.message_types import field_class
 
 _FLOATS = {'float', 'double', 'long double'}
 _INTEGERS = {'int8', 'uint8', 'int16', 'uint16', 'int32', 'uint32', 'int64', 'uint64'}
@@ -87,7 +88,7 @@ def _emit_copy(cls: type, source: str, target: str, lines: list[str], namespace:
             nested = f'_v{len(lines)}'
             lines.append(f'    {nested} = {value}')
             copied = f'_c{len(lines)}'
-            _emit_copy(_nested_class(slot_type), nested, copied, lines, namespace)
+            _emit_copy(field_class(slot_type), nested, copied, lines, namespace)
             lines.append(f'    {target}.{slot} = {copied}')
             continue
         convert = _same if slot_type is None else _converter(slot_type)
@@ -98,6 +99,3 @@ def _emit_copy(cls: type, source: str, target: str, lines: list[str], namespace:
             namespace[name] = convert
             lines.append(f'    {target}.{slot} = {name}({value})')
 
-
-def _nested_class(slot_type: NamespacedType) -> type:
-    return getattr(importlib.import_module('.'.join(slot_type.namespaces)), slot_type.name)

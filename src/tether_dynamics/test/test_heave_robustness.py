@@ -70,7 +70,8 @@ def test_vertical_tether_has_no_tolerance() -> None:
 
 def test_nearly_flat_tether_has_its_chord_and_no_tolerance() -> None:
     """A UAV passing the reel's height 11.8 m away (a landing in outdoor_flight): at dz = 1e-6 m the
-    slack catenary's tension had lost its digits and Brent's bracket its sign change (ValueError)."""
+    slack catenary's tension had lost its digits and Brent's bracket its sign change (ValueError).
+    """
     for dz in (1e-4, 1e-5, 3e-6, 1e-6, 3e-7, 1e-8, 1e-12):
         length, heave = heave_robustness.robust_length_point(11.839, dz)
         chord = math.hypot(11.839, dz)
