@@ -334,9 +334,16 @@ class Lockstep:
         _SCHEDULER.run(*self._clock_shared)
 
     def _on_input(self, stream: _Stream, msg) -> None:
-        """A message taken over DDS (inside the executor) or handed over by its producer (inside the producer's tick)."""
+        """A message taken over DDS (inside the executor) or handed over by its producer (inside the producer's tick).
+
+        A node still waiting for another message than this one is not scheduled: its
+        :meth:`_advance` would return at once (most hand-offs: a tick of five inputs waits for
+        four of them in vain).
+        """
         stream.add(msg)
-        _SCHEDULER.run(self)
+        waiting = self._waiting
+        if waiting is None or waiting[0].latest_ns >= waiting[1]:
+            _SCHEDULER.run(self)
 
     def _advance(self) -> None:
         """Run the ticks that are due and whose inputs have arrived, in (time, task) order; ack when caught up.
