@@ -10,6 +10,7 @@ from scipy.spatial.transform import Rotation
 
 from tether_dynamics.plant import (PlantConfig, PlantConfigError, PlantInputs, PlantStepError, ReelConfig,
                                    TetherPlant, UavConfig)
+from tether_dynamics.plant import quasi_static
 from tether_dynamics.statics import catenary
 
 MU, EA, G = 0.042, 2.0e4, 9.81
@@ -168,3 +169,25 @@ def test_fast_end_tensions_equal_the_full_solution(b: tuple) -> None:
     assert t_a == pytest.approx(full.tension_a, rel=1e-9)
     assert t_b == pytest.approx(full.tension_b, rel=1e-9)
     np.testing.assert_allclose(tangent, full.tangent_b(), atol=1e-9)
+
+
+def test_shape_points_on_scalar_paths_are_the_solution_s_points() -> None:
+    """quasi_static.shape_points (the markers' reference shape) against solve(...).points over random
+    ends and lengths: within 1e-7 of the length 0.1 m or more from vertical, equal on a vertical hang.
+    """
+    rng = np.random.default_rng(11)
+    for _ in range(300):
+        a = rng.normal(size=3)
+        b = a + np.array([*rng.uniform(-30.0, 30.0, 2), rng.uniform(-5.0, 40.0)])
+        if math.hypot(*(b - a)[:2]) < 0.1:
+            continue
+        length = math.dist(a, b) * rng.choice([1.0, 1.0 + 1e-12, 1.05, 1.5])
+        for ea in (math.inf, EA):
+            expected = quasi_static.solve(a, b, length, MU, ea, G).points(a, 41)
+            np.testing.assert_allclose(quasi_static.shape_points(a, b, length, MU, ea, G, 41), expected,
+                                       rtol=0.0, atol=1e-7 * length)
+    a, b = np.zeros(3), np.array([0.0, 0.0, 5.0])
+    np.testing.assert_array_equal(quasi_static.shape_points(a, b, 7.0, MU, EA, G, 21),
+                                  quasi_static.solve(a, b, 7.0, MU, EA, G).points(a, 21))
+    with pytest.raises(ValueError, match='shorter than'):
+        catenary.shape_point(3.0, 4.0, 4.0, 5)

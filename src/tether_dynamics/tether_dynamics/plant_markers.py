@@ -57,7 +57,7 @@ def reference_shape(guide_way: np.ndarray, uav: np.ndarray, n: int = REFERENCE_P
     a, b = np.asarray(guide_way, dtype=float), np.asarray(uav, dtype=float)
     d = b - a
     length = reference_length(float(np.hypot(d[0], d[1])), float(d[2])).length
-    return quasi_static.solve(a, b, length, THESIS_LINEAR_DENSITY, math.inf, GRAVITY).points(a, n)
+    return quasi_static.shape_points(a, b, length, THESIS_LINEAR_DENSITY, math.inf, GRAVITY, n)
 
 
 def _marker(ns: str, kind: int, color: tuple[float, float, float, float],

