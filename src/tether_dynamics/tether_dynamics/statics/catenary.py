@@ -378,8 +378,7 @@ def shape_point(dr: float, dz: float, length: float, n: int) -> tuple[np.ndarray
     ratio = dz / length
     m = math.atanh(ratio) if abs(ratio) < 1.0 else math.copysign(math.inf, ratio)
     a = 0.0 if math.isinf(u) else math.inf if u == 0.0 else dr / (2.0 * u)  # Eq. 3.3-3.4
-    dr_, dz_, length_, u_, m_, a_ = (np.asarray(v) for v in (dr, dz, length, u, m, a))
-    return _shape(dr_, dz_, length_, u_, m_, a_, n)
+    return _shape(np.asarray(dr), np.asarray(dz), np.asarray(length), np.asarray(u), np.asarray(m), np.asarray(a), n)
 
 
 def tension_b_point(dr: float, dz: float, length: float,
