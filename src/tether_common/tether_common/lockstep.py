@@ -341,9 +341,13 @@ class Lockstep:
         four of them in vain).
         """
         stream.add(msg)
-        waiting = self._waiting
-        if waiting is None or waiting[0].latest_ns >= waiting[1]:
+        if not self._still_waiting():
             _SCHEDULER.run(self)
+
+    def _still_waiting(self) -> bool:
+        """The next tick still waits for the input message it waited for at the last :meth:`_advance`."""
+        waiting = self._waiting
+        return waiting is not None and waiting[0].latest_ns < waiting[1]
 
     def _advance(self) -> None:
         """Run the ticks that are due and whose inputs have arrived, in (time, task) order; ack when caught up.
@@ -351,11 +355,9 @@ class Lockstep:
         Called after every input message, so its common case is cheap: a node still waiting
         for the message it waited for last time returns at once.
         """
-        if self._waiting is not None:
-            stream, expected = self._waiting
-            if stream.latest_ns < expected:
-                return
-            self._waiting = None
+        if self._still_waiting():
+            return
+        self._waiting = None
         tasks = self._tasks
         clock_ns = self._clock_ns
         caught_up = True

@@ -361,20 +361,33 @@ def inverse_sinhc_point(excess: float) -> float:
     raise RuntimeError(msg)
 
 
+def _point_parameters(dr: float, dz: float, length: float) -> tuple[float, float, float]:
+    """Scalar Eq. 3.4 for :func:`tension_b_point` and :func:`shape_point`: the length (raised to the
+    chord where rounding left it below), ``S = sqrt(L² - Δz²)`` and ``u`` (inf for a vertical hang,
+    0 for a taut tether), as :func:`solve` computes them.
+
+    Raises:
+        ValueError: A length shorter than the chord, or a negative ``dr``.
+    """
+    chord = math.hypot(dr, dz)
+    if dr < 0.0 or length < chord * (1.0 - 4e-16):
+        msg = (f'tether length L = {length:.9g} m is shorter than the chord {chord:.9g} m '
+               f'(or dr = {dr:.6g} m < 0)')
+        raise ValueError(msg)
+    length = max(length, chord)
+    s = math.sqrt(dr * dr + (length - chord) * (length + chord))
+    if dr == 0.0:
+        return length, s, math.inf
+    return length, s, inverse_sinhc_point((length - chord) * (length + chord) / ((s + dr) * dr))
+
+
 def shape_point(dr: float, dz: float, length: float, n: int) -> tuple[np.ndarray, np.ndarray]:
     """Scalar :func:`solve` and :meth:`CatenarySolution.shape`: ``(r, z)`` of ``n`` points of one
     catenary, its parameters on ``math`` paths (:func:`inverse_sinhc_point`), without
     :func:`solve`'s numpy work on a batch of one (about 300 µs here): the same points to rounding
     away from a vertical hang (:func:`tether_dynamics.plant.quasi_static.shape_points`).
     """
-    chord = math.hypot(dr, dz)
-    _check_lengths(np.asarray(dr), np.asarray(length), np.asarray(chord))
-    length = max(length, chord)
-    if dr == 0.0:
-        u = math.inf
-    else:
-        s = math.sqrt(dr * dr + (length - chord) * (length + chord))
-        u = inverse_sinhc_point((length - chord) * (length + chord) / ((s + dr) * dr))
+    length, _, u = _point_parameters(dr, dz, length)
     ratio = dz / length
     m = math.atanh(ratio) if abs(ratio) < 1.0 else math.copysign(math.inf, ratio)
     a = 0.0 if math.isinf(u) else math.inf if u == 0.0 else dr / (2.0 * u)  # Eq. 3.3-3.4
@@ -389,17 +402,10 @@ def tension_b_point(dr: float, dz: float, length: float,
     A ``math``-only path, about 50 times faster than :func:`solve` on one point; used by
     the controller-rate reference length. Returns ``inf`` for a taut tether.
     """
-    chord = math.hypot(dr, dz)
-    if dr < 0.0 or length < chord * (1.0 - 4e-16):
-        msg = (f'tether length L = {length:.9g} m is shorter than the chord {chord:.9g} m '
-               f'(or dr = {dr:.6g} m < 0)')
-        raise ValueError(msg)
-    length = max(length, chord)
+    length, s, u = _point_parameters(dr, dz, length)
     lg = linear_density * gravity
     if dr == 0.0:
         return 0.0 if -dz == length else 0.5 * lg * (length + dz)
-    s = math.sqrt(dr * dr + (length - chord) * (length + chord))
-    u = inverse_sinhc_point((length - chord) * (length + chord) / ((s + dr) * dr))
     if u == 0.0:
         return math.inf
     m = math.atanh(dz / length)
