@@ -191,7 +191,8 @@ def test_readme_topic_table_is_what_tether_demo_records(run):
     graph = yaml.safe_load((out / 'graph.yaml').read_text())
     for name, (type_name, rate, reliability, edges) in table.items():
         topic = bag.topics[name]
-        assert edges == f'{", ".join(graph[name]["publishers"])} → {", ".join(graph[name]["subscribers"])}', name
+        readers = graph[name]['subscribers'] + (['recorder (stream)'] if graph[name]['recorded'] == 'stream' else [])
+        assert edges == f'{", ".join(graph[name]["publishers"])} → {", ".join(readers)}', name
         assert graph[name]['recorded'] and graph[name]['qos'][0]['reliability'] == reliability, name
         assert topic.type_name.replace('/msg/', '/') == type_name, name
         expected = 'reliable' if reliability == 'reliable' else 'best_effort'

@@ -1,7 +1,8 @@
 """Print a run's recorded topics as the README's topic table: type, publisher → subscribers, rate, QoS.
 
 The publishers, subscribers and offered reliability and durability come from the run's
-``graph.yaml`` (written by the bringup once every node had joined the lockstep), the rates
+``graph.yaml`` (written by the bringup once every node had joined the lockstep; ``recorder
+(stream)`` for a topic the recorder takes from the node group's recording stream), the rates
 from the bag: (messages − 1) over the span of their log times, which are their stamps. The
 history depth is not discoverable, so the QoS column names only reliability and durability.
 The time master's node is ``tethersim``; ``/lockstep/ack`` and the excluded topics are not
@@ -47,7 +48,8 @@ def topic_rows(run_dir: Path) -> list[tuple[str, str, str, str, str]]:
     for name, topic in sorted(bag.topics.items()):
         entry = graph.get(name, {})
         publishers = ', '.join(entry.get('publishers', [])) or '?'
-        subscribers = ', '.join(entry.get('subscribers', [])) or '-'
+        readers = entry.get('subscribers', []) + (['recorder (stream)'] if entry.get('recorded') == 'stream' else [])
+        subscribers = ', '.join(readers) or '-'
         rate = rate_hz(topic.count, topic.first_ns, topic.last_ns)
         rows.append((name, topic.type_name.replace('/msg/', '/'), f'{publishers} → {subscribers}',
                      f'{rate:.3g} Hz', qos_text(entry.get('qos', []))))

@@ -25,7 +25,7 @@ def test_tethersims_lockstep_nodes_are_registered_and_the_bridges_to_simulators_
 def test_spec_names_each_node_and_cpu_file_reads_back(tmp_path):
     write_spec(tmp_path / 'spec.yaml', tmp_path / 'cpu.yaml', [('plant', 'tether_dynamics', 'plant', tmp_path / 'p.yaml')])
     assert (tmp_path / 'spec.yaml').read_text() == (
-        f'cpu_file: {tmp_path / "cpu.yaml"}\nnodes:\n- name: plant\n  package: tether_dynamics\n  executable: plant\n'
+        f'cpu_file: {tmp_path / "cpu.yaml"}\nrecord_fd: -1\nnodes:\n- name: plant\n  package: tether_dynamics\n  executable: plant\n'
         f'  params_file: {tmp_path / "p.yaml"}\n')
     (tmp_path / 'cpu.yaml').write_text('plant: 1.5\nreel: 0.25\n')
     assert read_cpu(tmp_path / 'cpu.yaml') == {'plant': 1.5, 'reel': 0.25}

@@ -13,7 +13,9 @@ recorder stops last and finalizes the bag, and no process is left behind.
 
 Every node whose package registers its class (:mod:`tether_bringup.node_group`) runs in
 the node group, unless the scene says ``compose: false``; the others (external simulators'
-bridges, test doubles, scripts) and the recorder run in processes of their own.
+bridges, test doubles, scripts) and the recorder run in processes of their own. The bringup
+opens a pipe from the group to the recorder, the group's recording stream
+(:mod:`tether_common.record_stream`), and keeps neither end.
 """
 
 from __future__ import annotations
@@ -47,6 +49,7 @@ from tether_bringup.node_group import node_classes
 from tether_bringup.node_group import read_cpu
 from tether_bringup.node_group import write_spec
 from tether_bringup.processes import ChildProcess
+from tether_bringup.recorder_node import streamed_topics
 from tether_bringup.recorder_params import DEFAULT_EXCLUDE
 from tether_bringup.scene import LOCKSTEP_WINDOW
 from tether_bringup.scene import NodeConfig
@@ -55,6 +58,7 @@ from tether_common.lockstep import END_VARIABLE
 from tether_common.lockstep import NODES_VARIABLE
 from tether_common.lockstep import RECORDER_READY_VARIABLE
 from tether_common.node_main import make_executor
+from tether_common.record_stream import open_pipe
 
 READY_TIMEOUT = 180.0
 """Start-up: nine Python node processes importing numpy, scipy and rclpy on a loaded 2-core machine take minutes."""
@@ -115,22 +119,29 @@ def execute(nodes: list[NodeConfig], source, options: RunOptions) -> int:
     executor = make_executor()
     executor.add_node(node)
     barrier = Barrier(node, [f'/{config.name}' for config in nodes if config.lockstep] + ['/recorder'])
+    stream: tuple[int, int] | None = None
     try:
         source.attach(node)
+        grouped = _grouped(nodes) if options.compose else []
+        stream = open_pipe() if grouped else None
         recorder = _start(out, env, NodeConfig(
             name='recorder', command=[_bringup_program('recorder')],
             parameters={'bag_directory': str(out / 'bag'), 'ready_file': str(ready_file),
                         'expected_nodes': [n.name for n in nodes] + ['tethersim'],
-                        'exclude': list(options.exclude)}))
+                        'exclude': list(options.exclude),
+                        'stream_fd': stream[0] if stream else -1,
+                        'stream_nodes': [f'/{config.name}' for config in grouped]}),
+                          pass_fds=stream[:1] if stream else ())
         children.append(recorder)
-        grouped = _grouped(nodes) if options.compose else []
         for config in nodes:
             if config.external:
                 _write_params(out, config)
             elif config not in grouped:
                 children.append(_start(out, env, config))
-        if grouped:
-            children.append(_start_group(out, env, grouped))
+        if stream is not None:
+            children.append(_start_group(out, env, grouped, stream[1]))
+            _close_stream(stream)
+            stream = None
         external = [config.name for config in nodes if config.external]
         waiting = f' and the external node(s) {", ".join(external)}' if external else ''
         _progress(f'{options.title}: {len(nodes) - len(external)} node(s) started in {len(children) - 1} process(es), '
@@ -144,7 +155,7 @@ def execute(nodes: list[NodeConfig], source, options: RunOptions) -> int:
         _wait_for(lambda: barrier.reached(0), READY_TIMEOUT, children, executor,
                   lambda: f'{", ".join(barrier.behind(0))} did not join the lockstep within {{:.0f}} s '
                           '(a node joins once each of its inputs has a publisher)')
-        write_graph(out / 'graph.yaml', node, set(options.exclude))
+        write_graph(out / 'graph.yaml', node, set(options.exclude), streamed_topics(ready_file))
         failure = _advance(source, barrier, children, executor, options, cpu)
         if failure:
             status = 1
@@ -155,6 +166,8 @@ def execute(nodes: list[NodeConfig], source, options: RunOptions) -> int:
         status = 1
         failure = str(error)
     finally:
+        if stream is not None:
+            _close_stream(stream)
         source.clock.stop()
         for sig in (signal.SIGINT, signal.SIGTERM):
             signal.signal(sig, signal.SIG_IGN)
@@ -211,10 +224,18 @@ def _write_params(out: Path, config: NodeConfig) -> Path:
     return path
 
 
-def _start(out: Path, env: dict[str, str], config: NodeConfig) -> ChildProcess:
+def _start(out: Path, env: dict[str, str], config: NodeConfig, pass_fds: tuple[int, ...] = ()) -> ChildProcess:
     params_file = _write_params(out, config)
     command = config.command + ['--ros-args', '-r', f'__node:={config.name}', '--params-file', str(params_file)]
-    return ChildProcess(config.name, command, out / 'logs' / f'{config.name}.log', env)
+    return ChildProcess(config.name, command, out / 'logs' / f'{config.name}.log', env, pass_fds=pass_fds)
+
+
+def _close_stream(stream: tuple[int, int]) -> None:
+    """Close the bringup's copies of the recorder's stream: the group holds the write end, the recorder the
+    read end, and the recorder reads the stream's end once the group has exited.
+    """
+    for fd in stream:
+        os.close(fd)
 
 
 def _grouped(nodes: list[NodeConfig]) -> list[NodeConfig]:
@@ -223,12 +244,13 @@ def _grouped(nodes: list[NodeConfig]) -> list[NodeConfig]:
     return [config for config in nodes if not config.external and (config.package, config.executable) in classes]
 
 
-def _start_group(out: Path, env: dict[str, str], grouped: list[NodeConfig]) -> ChildProcess:
+def _start_group(out: Path, env: dict[str, str], grouped: list[NodeConfig], record_fd: int) -> ChildProcess:
     spec = out / 'params' / f'{GROUP_NAME}.yaml'
     write_spec(spec, out / 'logs' / f'{GROUP_NAME}.cpu.yaml', [
-        (config.name, config.package, config.executable, _write_params(out, config)) for config in grouped])
+        (config.name, config.package, config.executable, _write_params(out, config)) for config in grouped],
+        record_fd)
     return ChildProcess(GROUP_NAME, [_bringup_program(GROUP_NAME), str(spec)], out / 'logs' / f'{GROUP_NAME}.log', env,
-                        members=tuple(config.name for config in grouped))
+                        members=tuple(config.name for config in grouped), pass_fds=(record_fd,))
 
 
 def _check_children(children: list[ChildProcess]) -> None:

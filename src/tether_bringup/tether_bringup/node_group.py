@@ -1,9 +1,11 @@
 """The node group: a scene's nodes in one process, spun on one executor.
 
 A message one node of the group publishes is handed to the others' subscriptions of its
-topic inside the process, as their own copies, besides going over DDS to the recorder
+topic inside the process, as their own copies, besides going over DDS to other processes
 (:func:`tether_common.lockstep.link_in_process`): no shared-memory transport, no other
-process to wake, no take by the executor. On this 2-core machine one process took
+process to wake, no take by the executor. Its CDR bytes go to the recorder through a pipe
+(:mod:`tether_common.record_stream`), and the recorder does not subscribe to a topic only
+the group publishes. On this 2-core machine one process took
 ``outdoor_flight``'s seven nodes from 1.05 CPU s per simulated s in seven processes to 0.44
 (README, "Throughput"). Each node stays a node of its own: its name, parameters, topics,
 lockstep ack and recording are the same as in a process of its own, and so is every
@@ -16,6 +18,7 @@ options (``cli_args``). The bringup writes the group's spec file (YAML) and star
 ``nodes SPEC``::
 
     cpu_file: RUN/logs/nodes.cpu.yaml   # written at exit: lockstep callback CPU s per node
+    record_fd: 5                        # the recorder's stream (a pipe's write end), -1 for none
     nodes:
       - {name: plant, package: tether_dynamics, executable: plant, params_file: RUN/params/plant.yaml}
 """
@@ -40,12 +43,15 @@ def node_classes() -> dict[tuple[str, str], EntryPoint]:
             for entry in entry_points(group=ENTRY_POINTS)}
 
 
-def write_spec(path: Path, cpu_file: Path, members: list[tuple[str, str, str, Path]]) -> None:
-    """Write the group's spec: ``members`` are (name, package, executable, parameter file)."""
+def write_spec(path: Path, cpu_file: Path, members: list[tuple[str, str, str, Path]], record_fd: int = -1) -> None:
+    """Write the group's spec: ``members`` are (name, package, executable, parameter file); ``record_fd`` the
+    write end of the recorder's stream in the group's process (-1: none).
+    """
     path.parent.mkdir(parents=True, exist_ok=True)
     nodes = [{'name': name, 'package': package, 'executable': executable, 'params_file': str(params)}
              for name, package, executable, params in members]
-    path.write_text(yaml.safe_dump({'cpu_file': str(cpu_file), 'nodes': nodes}, sort_keys=False))
+    path.write_text(yaml.safe_dump({'cpu_file': str(cpu_file), 'record_fd': record_fd, 'nodes': nodes},
+                                   sort_keys=False))
 
 
 def read_cpu(path: Path) -> dict[str, float]:
@@ -71,6 +77,7 @@ def main() -> None:
     """
     from tether_common.lockstep import callback_cpu
     from tether_common.node_main import run_nodes
+    from tether_common.record_stream import StreamWriter
     if len(sys.argv) != 2:
         print(f'{Path(sys.argv[0]).name}: error: expected one argument, the group\'s spec file', file=sys.stderr)
         sys.exit(2)
@@ -84,7 +91,8 @@ def main() -> None:
                   f'{ENTRY_POINTS}', file=sys.stderr)
             sys.exit(2)
         factories[member['name']] = _factory(entry, member['name'], member['params_file'])
-    status = run_nodes(factories, [sys.argv[0]])
+    record_fd = int(spec.get('record_fd', -1))
+    status = run_nodes(factories, [sys.argv[0]], record=StreamWriter(record_fd) if record_fd >= 0 else None)
     cpu = {name.lstrip('/'): round(seconds, 6) for name, seconds in callback_cpu().items()}
     Path(spec['cpu_file']).write_text(yaml.safe_dump(cpu, sort_keys=False))
     sys.exit(status)

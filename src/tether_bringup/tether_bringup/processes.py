@@ -27,7 +27,7 @@ class ChildProcess:
     """One node process of a run."""
 
     def __init__(self, name: str, command: list[str], log_path: Path, env: dict[str, str],
-                 members: tuple[str, ...] = ()) -> None:
+                 members: tuple[str, ...] = (), pass_fds: tuple[int, ...] = ()) -> None:
         self.name = name
         self.members = members or (name,)
         """The nodes the process runs (the node group runs several)."""
@@ -37,7 +37,7 @@ class ChildProcess:
         self._log = open(log_path, 'wb')
         self._popen = subprocess.Popen(
             command, stdin=subprocess.DEVNULL, stdout=self._log, stderr=subprocess.STDOUT,
-            env=env, process_group=0, preexec_fn=_die_with_parent)
+            env=env, process_group=0, preexec_fn=_die_with_parent, pass_fds=pass_fds)
         self.pid = self._popen.pid
         self.returncode: int | None = None
         self.cpu_time = 0.0

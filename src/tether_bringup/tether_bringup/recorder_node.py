@@ -12,14 +12,26 @@ every message that arrived before it, so the graph cannot run ahead of the bag. 
 ``settle_time`` and every recorded subscription has matched all the topic's publishers, it
 writes ``ready_file`` so that the bringup can start the clock: nothing
 published on a sim-time timer is missed.
+
+With ``stream_fd``, the node group's recording stream (:mod:`tether_common.record_stream`),
+a thread reads the CDR bytes of what the group's nodes (``stream_nodes``) publish, and a
+topic whose every publisher the group has announced is recorded from there, in the order
+the group published it, with no DDS subscription: the write to a reader in another process
+was the largest cost of the group's thread. A topic that a process outside the group
+publishes too is subscribed to as above, and its stream frames are dropped. The recorder is
+ready once the group has announced its publishers; at shutdown it reads the stream to its
+end (the group has exited) before it finalizes the bag.
 """
 
 from __future__ import annotations
 
+import os
 import sys
+import threading
 import time
 from pathlib import Path
 
+import yaml
 from rclpy.node import Node
 from rclpy.qos import DurabilityPolicy
 from rclpy.qos import HistoryPolicy
@@ -35,8 +47,17 @@ from tether_common.lockstep import ACK_TOPIC
 from tether_common.message_types import message_class
 from tether_common.node_main import run_node
 from tether_common.qos import LOCKSTEP_ACK
+from tether_common.record_stream import ANNOUNCE
+from tether_common.record_stream import ANNOUNCED
+from tether_common.record_stream import StreamReader
 from tether_common.ros_parameters import declare_parameters
 
+STREAM_END_TIMEOUT = 20.0
+"""Seconds the recorder waits at shutdown for the end of the group's stream (the bringup stops the group first)."""
+UNKNOWN_NODE = '_NODE_NAME_UNKNOWN_'
+"""The node name the ROS graph gives a publisher whose node's own discovery has not arrived yet."""
+_DROP = None
+"""A streamed topic recorded from DDS instead (another process publishes it too): its frames are dropped."""
 _RELIABILITY = {ReliabilityPolicy.RELIABLE: 'reliable', ReliabilityPolicy.BEST_EFFORT: 'best_effort'}
 _DURABILITY = {DurabilityPolicy.VOLATILE: 'volatile', DurabilityPolicy.TRANSIENT_LOCAL: 'transient_local'}
 
@@ -65,6 +86,12 @@ def qos_profile(records: list[QosRecord], depth: int) -> QoSProfile:
     )
 
 
+def streamed_topics(ready_file: Path) -> set[str]:
+    """The topics a recorder's ready file says it takes from the node group's stream."""
+    routes = yaml.safe_load(ready_file.read_text()) if ready_file.exists() else None
+    return {topic for topic, route in routes.items() if route == 'stream'} if isinstance(routes, dict) else set()
+
+
 def type_hash_string(type_hash) -> str:
     """Format an rclpy TypeHash as REP-2011 ``RIHS01_<hex>`` (empty if unknown)."""
     if type_hash is None or type_hash.version != 1:
@@ -88,11 +115,25 @@ class Recorder(Node):
         self._exclude = set(self.params['exclude']) | {ACK_TOPIC}
         self._ack_pub = self.create_publisher(LockstepAck, ACK_TOPIC, LOCKSTEP_ACK)
         self._ack = LockstepAck(node=self.get_fully_qualified_name())
+        self._lock = threading.RLock()
+        self._stream_nodes = set(self.params['stream_nodes'])
+        self._announced: dict[str, set[str]] = {}
+        self._announcements_done = self.params['stream_fd'] < 0
+        self._stream_topics: dict[int, str] = {}
+        self._stream_routes: dict[str, object] = {}
+        self._stream_pending: dict[str, list[bytes]] = {}
+        self._closed = False
+        self._stream_thread = None
         self._subscribe('/clock', 'rosgraph_msgs/msg/Clock', [QosRecord(depth=1)], '')
+        if self.params['stream_fd'] >= 0:
+            self._stream_thread = threading.Thread(target=self._read_stream, args=(self.params['stream_fd'],),
+                                                   name='record stream', daemon=True)
+            self._stream_thread.start()
         self.create_timer(self.params['discovery_period'], self.discover)
 
     def discover(self) -> None:
-        """Subscribe to new topics; report readiness once the graph has settled."""
+        """Subscribe to new topics (or take them from the group's stream); report readiness once the graph has settled."""
+        waiting = False
         for topic, types in self.get_topic_names_and_types():
             if topic in self._subscriptions_by_topic or topic in self._exclude:
                 continue
@@ -100,9 +141,25 @@ class Recorder(Node):
             if not publishers or len(types) != 1:
                 continue
             qos = [qos_record(info.qos_profile) for info in publishers]
-            self._subscribe(topic, types[0], qos, type_hash_string(publishers[0].topic_type_hash))
-        self.bag.maybe_flush()
-        if not self._ready and self.params['ready_file']:
+            type_hash = type_hash_string(publishers[0].topic_type_hash)
+            nodes = {f'{info.node_namespace.rstrip("/")}/{info.node_name}' for info in publishers}
+            if self._stream_nodes and any(info.node_name == UNKNOWN_NODE for info in publishers):
+                waiting = True
+                continue
+            with self._lock:
+                if self._stream_nodes and nodes <= self._stream_nodes:
+                    if nodes <= self._announced.get(topic, set()):
+                        self._record_from_stream(topic, types[0], qos, type_hash)
+                        continue
+                    if not self._announcements_done:
+                        waiting = True
+                        continue
+                self._stream_routes[topic] = _DROP
+                self._stream_pending.pop(topic, None)
+            self._subscribe(topic, types[0], qos, type_hash)
+        with self._lock:
+            self.bag.maybe_flush()
+        if not self._ready and self.params['ready_file'] and not waiting:
             present = {name for name, _ in self.get_node_names_and_namespaces()}
             signature = (frozenset(present), frozenset(
                 (topic, self.count_publishers(topic), self.count_subscribers(topic))
@@ -113,7 +170,10 @@ class Recorder(Node):
             settled = time.monotonic() - self._last_change >= self.params['settle_time']
             if self._expected <= present and settled and self._matched_every_publisher():
                 self._ready = True
-                Path(self.params['ready_file']).write_text('\n'.join(sorted(self._subscriptions_by_topic)) + '\n')
+                with self._lock:
+                    routes = {topic: 'stream' if self._stream_routes.get(topic, _DROP) is not _DROP else 'dds'
+                              for topic in sorted(self._subscriptions_by_topic)}
+                Path(self.params['ready_file']).write_text(yaml.safe_dump(routes))
                 self._acknowledge(0)
 
     def _matched_every_publisher(self) -> bool:
@@ -122,41 +182,112 @@ class Recorder(Node):
                    for topic, subscription in self._subscriptions_by_topic.items() if subscription is not None)
 
     def _subscribe(self, topic: str, type_name: str, qos: list[QosRecord], type_hash: str) -> None:
+        msg_type = self._message_class(topic, type_name)
+        if msg_type is None:
+            return
+        with self._lock:
+            self.bag.add_topic(topic, type_name, qos, type_hash)
+        profile = qos_profile(qos, self.params['queue_depth'])
+        self._subscriptions_by_topic[topic] = self.create_subscription(
+            msg_type, topic, self._writer(topic, type_name), profile, raw=True)
+
+    def _record_from_stream(self, topic: str, type_name: str, qos: list[QosRecord], type_hash: str) -> None:
+        """Record ``topic`` from the group's stream (with the lock held): what arrived for it so far first."""
+        self._subscriptions_by_topic[topic] = None
+        if self._message_class(topic, type_name) is None:
+            self._stream_routes[topic] = _DROP
+            self._stream_pending.pop(topic, None)
+            return
+        self.bag.add_topic(topic, type_name, qos, type_hash)
+        write = self._stream_routes[topic] = self._writer(topic, type_name)
+        for data in self._stream_pending.pop(topic, []):
+            write(data)
+
+    def _message_class(self, topic: str, type_name: str):
         try:
-            msg_type = message_class(type_name)
+            return message_class(type_name)
         except (ImportError, AttributeError, ValueError):
             self.get_logger().warning(f'not recording {topic}: message type {type_name} is not installed')
             self._subscriptions_by_topic[topic] = None
-            return
-        self.bag.add_topic(topic, type_name, qos, type_hash)
-        profile = qos_profile(qos, self.params['queue_depth'])
+            return None
+
+    def _writer(self, topic: str, type_name: str):
+        """The function that writes one serialized message of ``topic`` to the bag, logged at its sim time."""
         read_stamp = stamp_reader(type_name)
         write = self.bag.write
+        lock = self._lock
 
         if topic == '/clock':
             def on_message(data: bytes) -> None:
-                self.sim_time_ns = max(self.sim_time_ns, read_stamp(data))
-                write(topic, data, self.sim_time_ns)
+                with lock:
+                    self.sim_time_ns = max(self.sim_time_ns, read_stamp(data))
+                    write(topic, data, self.sim_time_ns)
                 if self._ready:
                     self._acknowledge(self.sim_time_ns)
         elif read_stamp is None:
             def on_message(data: bytes) -> None:
-                write(topic, data, self.sim_time_ns)
+                with lock:
+                    write(topic, data, self.sim_time_ns)
         else:
             def on_message(data: bytes) -> None:
                 stamp = read_stamp(data)
-                write(topic, data, self.sim_time_ns if stamp is None else stamp)
+                with lock:
+                    write(topic, data, self.sim_time_ns if stamp is None else stamp)
+        return on_message
 
-        self._subscriptions_by_topic[topic] = self.create_subscription(
-            msg_type, topic, on_message, profile, raw=True)
+    def _read_stream(self, fd: int) -> None:
+        """Read the group's stream to its end (the group closed it or exited)."""
+        reader = StreamReader()
+        try:
+            while data := os.read(fd, 1 << 16):
+                if not self._take(reader.feed(data)):
+                    break
+        except OSError as error:
+            self.get_logger().error(f'reading the node group\'s recording stream (fd {fd}): {error.strerror}')
+        else:
+            os.close(fd)
+        with self._lock:
+            self._announcements_done = True
+        if reader.pending:
+            self.get_logger().error(f'the node group\'s recording stream ended inside a message '
+                                    f'({reader.pending} bytes not recorded)')
+
+    def _take(self, frames: list[tuple[int, int, bytes]]) -> bool:
+        """Register announcements, write or hold each message; False once the bag is closed."""
+        with self._lock:
+            if self._closed:
+                return False
+            for kind, topic_id, payload in frames:
+                if kind == ANNOUNCE:
+                    topic, node = payload.decode().split('\n')
+                    self._stream_topics[topic_id] = topic
+                    self._announced.setdefault(topic, set()).add(node)
+                    if topic in self._exclude:
+                        self._stream_routes[topic] = _DROP
+                elif kind == ANNOUNCED:
+                    self._announcements_done = True
+                else:
+                    topic = self._stream_topics[topic_id]
+                    if topic not in self._stream_routes:
+                        self._stream_pending.setdefault(topic, []).append(payload)
+                    elif (write := self._stream_routes[topic]) is not _DROP:
+                        write(payload)
+        return True
 
     def _acknowledge(self, time_ns: int) -> None:
         self._ack.done.sec, self._ack.done.nanosec = divmod(time_ns, 1_000_000_000)
         self._ack_pub.publish(self._ack)
 
     def destroy_node(self) -> None:
-        """Finalize the bag, then destroy the node."""
-        self.bag.close()
+        """Read the group's stream to its end, finalize the bag, then destroy the node."""
+        if self._stream_thread is not None:
+            self._stream_thread.join(STREAM_END_TIMEOUT)
+            if self._stream_thread.is_alive():
+                self.get_logger().error(f'the node group\'s recording stream did not end within '
+                                        f'{STREAM_END_TIMEOUT:.0f} s; finalizing the bag without the rest')
+        with self._lock:
+            self._closed = True
+            self.bag.close()
         super().destroy_node()
 
 

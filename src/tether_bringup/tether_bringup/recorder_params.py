@@ -16,4 +16,7 @@ PARAMETERS = (
     ParamSpec('settle_time', 1.0, 'Quiet time of the graph before reporting ready', 's', 0.0, 10.0),
     ParamSpec('flush_period', 1.0, 'Longest time data waits in an unwritten chunk', 's', 0.05, 10.0),
     ParamSpec('queue_depth', 1000, 'Subscription queue depth per topic', '', 1, 100000),
+    ParamSpec('stream_fd', -1, 'Read end of the node group\'s recording stream (a pipe), -1 for none', '', -1, 65535),
+    ParamSpec('stream_nodes', [], 'Fully qualified names of the node group\'s nodes, whose topics come from '
+              'stream_fd', item_type=str),
 )

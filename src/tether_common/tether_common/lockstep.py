@@ -50,8 +50,8 @@ be that far ahead of a consumer busy in a long tick: an input's reader keeps at 
 **In-process hand-off.** When several nodes share a process (``tether_bringup``'s node
 group), :func:`link_in_process` hands each message one of them publishes on another's
 input straight to that input, as its own copy (:mod:`tether_common.message_copy`), after
-publishing it over DDS (to the recorder and to other processes) as the CDR bytes
-:mod:`tether_common.cdr` serializes. The input's DDS
+publishing it over DDS (to other processes) as the CDR bytes :mod:`tether_common.cdr`
+serializes, and adding those bytes to the recorder's stream (:mod:`tether_common.record_stream`). The input's DDS
 reader stays in the graph, matched, so ``ros2 topic info``, the join rules and the graph a
 run writes are those of separate processes; its samples are not taken, and it is best effort
 (``ros2 topic info -v`` shows it so), which spares the publisher heartbeats and acks. A take and its
@@ -82,6 +82,7 @@ from rclpy.impl.implementation_singleton import rclpy_implementation as _rclpy
 from rclpy.node import Node
 from rclpy.publisher import Publisher
 from rclpy.qos import QoSProfile
+from rclpy.serialization import serialize_message
 from rosgraph_msgs.msg import Clock as ClockMsg
 from tether_msgs.msg import LockstepAck
 
@@ -93,6 +94,7 @@ from tether_common.qos import CLOCK
 from tether_common.qos import IDLE_READER
 from tether_common.qos import LOCKSTEP_ACK
 from tether_common.qos import STATE
+from tether_common.record_stream import StreamWriter
 
 ACK_TOPIC = '/lockstep/ack'
 NODES_VARIABLE = 'TETHERSIM_NODES'
@@ -487,9 +489,14 @@ class GroupPublisher(Publisher):
 
     handoffs: list[Callable[[object], None]]
     serialize: Callable[[object], bytes] | None
+    record: StreamWriter | None
+    record_id: int
 
     def publish(self, msg) -> None:
-        super().publish(msg if self.serialize is None or not isinstance(msg, self.msg_type) else self.serialize(msg))
+        data = msg if self.serialize is None or not isinstance(msg, self.msg_type) else self.serialize(msg)
+        super().publish(data)
+        if self.record is not None:
+            self.record.add(self.record_id, data if isinstance(data, bytes) else serialize_message(data))
         for deliver in self.handoffs:
             deliver(copy_message(msg))
 
@@ -525,11 +532,13 @@ def _plain_delivery(callback: Callable, raw: bool) -> Callable[[object], None]:
     return callback
 
 
-def link_in_process(nodes: Sequence[Node]) -> InProcessLinks:
+def link_in_process(nodes: Sequence[Node], record: StreamWriter | None = None) -> InProcessLinks:
     """Hand every message a node of ``nodes`` publishes to the subscribers among ``nodes`` of its topic.
 
     Call once, after the nodes are built and before they spin. Each publisher of ``nodes``
-    becomes a :class:`GroupPublisher`. A linked lockstep input gets the message appended
+    becomes a :class:`GroupPublisher`; with ``record``, the recorder's stream
+    (:mod:`tether_common.record_stream`), it announces itself there and adds the bytes of every
+    message it publishes. A linked lockstep input gets the message appended
     and its node's ticks run after the current callback (:class:`_Scheduler`); any other
     linked subscription's callback runs at once, inside the publish, so it has the message
     before anything published after it, as the executor would have taken it. Each linked
@@ -542,6 +551,11 @@ def link_in_process(nodes: Sequence[Node]) -> InProcessLinks:
         for publisher in node.publishers:
             _to_group_publisher(publisher)
             publishers.setdefault(publisher.topic_name, []).append(publisher)
+            if record is not None and publisher.topic_name != ACK_TOPIC:
+                publisher.record = record
+                publisher.record_id = record.announce(publisher.topic_name, node.get_fully_qualified_name())
+    if record is not None:
+        record.announced()
 
     def link(topic: str, deliver: Callable[[object], None]) -> None:
         for publisher in publishers[topic]:
@@ -573,6 +587,7 @@ def _to_group_publisher(publisher: Publisher) -> None:
         return
     publisher.__class__ = GroupPublisher
     publisher.handoffs = []
+    publisher.record = None
     try:
         publisher.serialize = cdr.serializer(publisher.msg_type)
     except NotImplementedError:

@@ -46,6 +46,7 @@ from rclpy.experimental import EventsExecutor
 from rclpy.impl.implementation_singleton import rclpy_implementation
 from rclpy.node import Node
 
+from tether_common.record_stream import StreamWriter
 
 SPIN_TIMEOUT = 0.5
 SHUTDOWN_TIMEOUT = 10.0
@@ -79,14 +80,16 @@ def run_node(factory: Callable[[], Node], args: list[str] | None = None,
 
 
 def run_nodes(factories: dict[str, Callable[[], Node]], args: list[str] | None = None,
-              executor: Callable[[], Executor] | None = None) -> int:
+              executor: Callable[[], Executor] | None = None, record: StreamWriter | None = None) -> int:
     """Build each node (name: factory, in order) in this process and spin them all on one executor.
 
     A node that cannot be built is reported under its name (``<name>: error: ...``); an
     error while they spin, under the program's. One executor for several nodes: a message
     one of them publishes is handed to the others' subscriptions of its topic inside the
     process, and one ``/clock`` subscription advances them all
-    (:func:`tether_common.lockstep.link_in_process`; ``tether_bringup``'s node group).
+    (:func:`tether_common.lockstep.link_in_process`; ``tether_bringup``'s node group). With
+    ``record``, what they publish also goes to the recorder's stream, written after each
+    executor callback and closed on every exit (:mod:`tether_common.record_stream`).
     """
     from tether_common.lockstep import link_in_process  # lockstep imports this module's ConfigurationError
     program = Path(sys.argv[0]).name
@@ -103,13 +106,15 @@ def run_nodes(factories: dict[str, Callable[[], Node]], args: list[str] | None =
             building = name
             nodes.append(factory())
         building = program
-        links = link_in_process(nodes)
+        links = link_in_process(nodes, record)
         spinner = executor() if executor is not None else make_executor()
         for node in nodes:
             spinner.add_node(node)
         with _profiled(nodes[0].get_name() if len(nodes) == 1 else program):
             while rclpy.ok():
                 spinner.spin_once(timeout_sec=SPIN_TIMEOUT)
+                if record is not None:
+                    record.flush()
     except (KeyboardInterrupt, ExternalShutdownException):
         pass
     except (ConfigurationError, ParameterException) as error:
@@ -129,6 +134,8 @@ def run_nodes(factories: dict[str, Callable[[], Node]], args: list[str] | None =
                 node.destroy_node()
             rclpy.try_shutdown()
         finally:
+            if record is not None:
+                record.close()
             faulthandler.cancel_dump_traceback_later()
     return status
 

@@ -1,0 +1,99 @@
+"""The recorder takes a topic only the node group publishes from the group's recording stream, and a topic
+another process publishes too from DDS, each message once, and reads the stream to its end before it
+finalizes the bag.
+"""
+
+from __future__ import annotations
+
+import os
+import signal
+import subprocess
+import time
+from pathlib import Path
+
+import yaml
+from ament_index_python.packages import get_package_prefix
+from geometry_msgs.msg import PointStamped
+from rclpy.duration import Duration
+from rclpy.executors import SingleThreadedExecutor
+from rclpy.node import Node
+
+from tether_bringup.bag_reader import read_bag
+from tether_common import cdr
+from tether_common.qos import STATE
+from tether_common.record_stream import StreamWriter
+from tether_common.record_stream import open_pipe
+
+NS = 1_000_000_000
+
+
+def _point(stamp_s: float, x: float) -> PointStamped:
+    msg = PointStamped()
+    msg.header.stamp.sec, msg.header.stamp.nanosec = divmod(round(stamp_s * NS), NS)
+    msg.point.x = x
+    return msg
+
+
+def _spin(executor, seconds: float) -> None:
+    deadline = time.monotonic() + seconds
+    while time.monotonic() < deadline:
+        executor.spin_once(timeout_sec=0.01)
+
+
+def test_group_only_topic_comes_from_the_stream_and_a_shared_one_from_dds(ros_context, tmp_path):
+    read_fd, write_fd = open_pipe()
+    ready = tmp_path / 'recorder.ready'
+    recorder = subprocess.Popen(
+        [str(Path(get_package_prefix('tether_bringup')) / 'lib' / 'tether_bringup' / 'recorder'), '--ros-args',
+         '-p', f'bag_directory:={tmp_path / "bag"}', '-p', f'ready_file:={ready}', '-p', f'stream_fd:={read_fd}',
+         '-p', "stream_nodes:=['/group_a']", '-p', "expected_nodes:=['group_a', 'outside']",
+         '-p', 'settle_time:=0.3'],
+        pass_fds=(read_fd,), stdout=subprocess.PIPE, stderr=subprocess.STDOUT)
+    os.close(read_fd)
+    group = Node('group_a', context=ros_context)
+    outside = Node('outside', context=ros_context)
+    executor = SingleThreadedExecutor(context=ros_context)
+    executor.add_node(group)
+    executor.add_node(outside)
+    try:
+        group_x = group.create_publisher(PointStamped, '/x', STATE)
+        group_m = group.create_publisher(PointStamped, '/m', STATE)
+        outside_m = outside.create_publisher(PointStamped, '/m', STATE)
+        stream = StreamWriter(write_fd)
+        x_id, m_id = stream.announce('/x', '/group_a'), stream.announce('/m', '/group_a')
+        stream.announced()
+        serialize = cdr.serializer(PointStamped)
+        stream.add(x_id, serialize(_point(1.0, 1.0)))  # before the recorder has decided: held, then written
+        stream.flush()
+        deadline = time.monotonic() + 60.0
+        while not ready.exists():
+            assert recorder.poll() is None, recorder.communicate()[0].decode()
+            assert time.monotonic() < deadline, 'the recorder did not get ready within 60 s'
+            _spin(executor, 0.05)
+        _spin(executor, 0.5)
+        assert yaml.safe_load(ready.read_text()) == {'/clock': 'dds', '/m': 'dds', '/x': 'stream'}
+
+        group_x.publish(_point(2.0, 77.0))  # over DDS only: the recorder does not subscribe to /x
+        group_m.publish(_point(2.0, 2.0))
+        outside_m.publish(_point(3.0, 3.0))
+        stream.add(m_id, serialize(_point(2.0, 99.0)))  # /m comes from DDS: its stream frames are dropped
+        for index in range(2, 500):
+            stream.add(x_id, serialize(_point(float(index), float(index))))
+        for publisher in (group_m, outside_m):
+            assert publisher.wait_for_all_acked(Duration(seconds=30))
+        _spin(executor, 0.5)
+        stream.close()
+        recorder.send_signal(signal.SIGINT)
+        output = recorder.communicate(timeout=60)[0].decode()
+        assert recorder.returncode == 0, output
+    finally:
+        if recorder.poll() is None:
+            recorder.kill()
+        group.destroy_node()
+        outside.destroy_node()
+    bag = read_bag(tmp_path / 'bag')
+    assert bag.complete
+    x = bag.decoded('/x')
+    assert [msg.point.x for _, msg in x] == [1.0] + [float(index) for index in range(2, 500)]
+    assert [log_time for log_time, _ in x] == [NS] + [index * NS for index in range(2, 500)]
+    assert sorted(msg.point.x for _, msg in bag.decoded('/m')) == [2.0, 3.0]
