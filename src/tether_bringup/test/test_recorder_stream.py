@@ -97,3 +97,53 @@ def test_group_only_topic_comes_from_the_stream_and_a_shared_one_from_dds(ros_co
     assert [msg.point.x for _, msg in x] == [1.0] + [float(index) for index in range(2, 500)]
     assert [log_time for log_time, _ in x] == [NS] + [index * NS for index in range(2, 500)]
     assert sorted(msg.point.x for _, msg in bag.decoded('/m')) == [2.0, 3.0]
+
+
+def test_interrupted_recorder_reads_the_stream_to_its_end_and_finalizes_the_bag(ros_context, tmp_path):
+    """Ctrl-C while messages pour in: the recorder writes every message the group sent before it closed
+    the stream, and the bag is complete (an interrupt inside a chunk's write would leave it unreadable).
+    """
+    read_fd, write_fd = open_pipe()
+    ready = tmp_path / 'recorder.ready'
+    recorder = subprocess.Popen(
+        [str(Path(get_package_prefix('tether_bringup')) / 'lib' / 'tether_bringup' / 'recorder'), '--ros-args',
+         '-p', f'bag_directory:={tmp_path / "bag"}', '-p', f'ready_file:={ready}', '-p', f'stream_fd:={read_fd}',
+         '-p', "stream_nodes:=['/group_a']", '-p', "expected_nodes:=['group_a']", '-p', 'settle_time:=0.3',
+         '-p', 'flush_period:=0.05'],
+        pass_fds=(read_fd,), stdout=subprocess.PIPE, stderr=subprocess.STDOUT)
+    os.close(read_fd)
+    group = Node('group_a', context=ros_context)
+    executor = SingleThreadedExecutor(context=ros_context)
+    executor.add_node(group)
+    try:
+        group.create_publisher(PointStamped, '/x', STATE)
+        stream = StreamWriter(write_fd)
+        x_id = stream.announce('/x', '/group_a')
+        stream.announced()
+        deadline = time.monotonic() + 60.0
+        while not ready.exists():
+            assert recorder.poll() is None, recorder.communicate()[0].decode()
+            assert time.monotonic() < deadline, 'the recorder did not get ready within 60 s'
+            _spin(executor, 0.05)
+        serialize = cdr.serializer(PointStamped)
+        sent = 0
+        start = time.monotonic()
+        interrupted = False
+        while time.monotonic() - start < 1.5:  # Ctrl-C after 1 s; the group sends on for 0.5 s
+            for _ in range(50):
+                sent += 1
+                stream.add(x_id, serialize(_point(sent * 0.01, float(sent))))
+            stream.flush()
+            if not interrupted and time.monotonic() - start >= 1.0:
+                recorder.send_signal(signal.SIGINT)
+                interrupted = True
+        stream.close()
+        output = recorder.communicate(timeout=60)[0].decode()
+        assert recorder.returncode == 0, output
+    finally:
+        if recorder.poll() is None:
+            recorder.kill()
+        group.destroy_node()
+    bag = read_bag(tmp_path / 'bag')
+    assert bag.complete, bag.damage_line()
+    assert [msg.point.x for _, msg in bag.decoded('/x')] == [float(index) for index in range(1, sent + 1)]

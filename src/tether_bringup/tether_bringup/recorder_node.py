@@ -292,8 +292,10 @@ class Recorder(Node):
 
 
 def main(args=None) -> None:
-    """Run the recorder until shutdown; the bag is finalized on every exit path."""
-    sys.exit(run_node(Recorder, args))
+    """Run the recorder until shutdown; the bag is finalized on every exit path. Ctrl-C does not
+    interrupt a callback: a chunk whose write stopped halfway would leave the file unreadable.
+    """
+    sys.exit(run_node(Recorder, args, interrupt_callbacks=False))
 
 
 if __name__ == '__main__':

@@ -30,6 +30,7 @@ import cProfile
 import faulthandler
 import os
 import re
+import signal
 import sys
 import tempfile
 import time
@@ -71,16 +72,20 @@ def make_executor(context=None):
 
 
 def run_node(factory: Callable[[], Node], args: list[str] | None = None,
-             executor: Callable[[], Executor] | None = None) -> int:
+             executor: Callable[[], Executor] | None = None, interrupt_callbacks: bool = True) -> int:
     """Build the node with ``factory`` and spin it until shutdown; return the exit status.
 
-    ``executor`` makes the executor that spins it (default: :func:`make_executor`).
+    ``executor`` makes the executor that spins it (default: :func:`make_executor`). With
+    ``interrupt_callbacks`` false, SIGINT (Ctrl-C) ends the spin as SIGTERM does, once the
+    running callback returns, instead of raising ``KeyboardInterrupt`` inside it: for a node
+    whose callback must not stop halfway (the recorder, in the middle of writing a chunk).
     """
-    return run_nodes({Path(sys.argv[0]).name: factory}, args, executor)
+    return run_nodes({Path(sys.argv[0]).name: factory}, args, executor, interrupt_callbacks=interrupt_callbacks)
 
 
 def run_nodes(factories: dict[str, Callable[[], Node]], args: list[str] | None = None,
-              executor: Callable[[], Executor] | None = None, record: StreamWriter | None = None) -> int:
+              executor: Callable[[], Executor] | None = None, record: StreamWriter | None = None,
+              interrupt_callbacks: bool = True) -> int:
     """Build each node (name: factory, in order) in this process and spin them all on one executor.
 
     A node that cannot be built is reported under its name (``<name>: error: ...``); an
@@ -93,6 +98,9 @@ def run_nodes(factories: dict[str, Callable[[], Node]], args: list[str] | None =
     """
     from tether_common.lockstep import link_in_process  # lockstep imports this module's ConfigurationError
     program = Path(sys.argv[0]).name
+    if not interrupt_callbacks:
+        # rclpy's handler, installed by rclpy.init, shuts the context down and then calls this one
+        signal.signal(signal.SIGINT, signal.SIG_IGN)
     refused = _init(args)
     if refused:
         print(f'{program}: error: invalid --ros-args: {refused}', file=sys.stderr, flush=True)
