@@ -40,16 +40,30 @@ def _spin(executor, seconds: float) -> None:
         executor.spin_once(timeout_sec=0.01)
 
 
+def _start_recorder(tmp_path: Path, read_fd: int, expected: list[str], *parameters: str) -> subprocess.Popen:
+    """The recorder, its stream's read end passed to it (and closed here), the group being ``/group_a``."""
+    recorder = subprocess.Popen(
+        [str(Path(get_package_prefix('tether_bringup')) / 'lib' / 'tether_bringup' / 'recorder'), '--ros-args',
+         '-p', f'bag_directory:={tmp_path / "bag"}', '-p', f'ready_file:={tmp_path / "recorder.ready"}',
+         '-p', f'stream_fd:={read_fd}', '-p', "stream_nodes:=['/group_a']", '-p', f'expected_nodes:={expected}',
+         '-p', 'settle_time:=0.3', *(item for parameter in parameters for item in ('-p', parameter))],
+        pass_fds=(read_fd,), stdout=subprocess.PIPE, stderr=subprocess.STDOUT)
+    os.close(read_fd)
+    return recorder
+
+
+def _wait_ready(recorder: subprocess.Popen, ready: Path, executor) -> None:
+    deadline = time.monotonic() + 60.0
+    while not ready.exists():
+        assert recorder.poll() is None, recorder.communicate()[0].decode()
+        assert time.monotonic() < deadline, 'the recorder did not get ready within 60 s'
+        _spin(executor, 0.05)
+
+
 def test_group_only_topic_comes_from_the_stream_and_a_shared_one_from_dds(ros_context, tmp_path):
     read_fd, write_fd = open_pipe()
     ready = tmp_path / 'recorder.ready'
-    recorder = subprocess.Popen(
-        [str(Path(get_package_prefix('tether_bringup')) / 'lib' / 'tether_bringup' / 'recorder'), '--ros-args',
-         '-p', f'bag_directory:={tmp_path / "bag"}', '-p', f'ready_file:={ready}', '-p', f'stream_fd:={read_fd}',
-         '-p', "stream_nodes:=['/group_a']", '-p', "expected_nodes:=['group_a', 'outside']",
-         '-p', 'settle_time:=0.3'],
-        pass_fds=(read_fd,), stdout=subprocess.PIPE, stderr=subprocess.STDOUT)
-    os.close(read_fd)
+    recorder = _start_recorder(tmp_path, read_fd, ['group_a', 'outside'])
     group = Node('group_a', context=ros_context)
     outside = Node('outside', context=ros_context)
     executor = SingleThreadedExecutor(context=ros_context)
@@ -65,11 +79,7 @@ def test_group_only_topic_comes_from_the_stream_and_a_shared_one_from_dds(ros_co
         serialize = cdr.serializer(PointStamped)
         stream.add(x_id, serialize(_point(1.0, 1.0)))  # before the recorder has decided: held, then written
         stream.flush()
-        deadline = time.monotonic() + 60.0
-        while not ready.exists():
-            assert recorder.poll() is None, recorder.communicate()[0].decode()
-            assert time.monotonic() < deadline, 'the recorder did not get ready within 60 s'
-            _spin(executor, 0.05)
+        _wait_ready(recorder, ready, executor)
         _spin(executor, 0.5)
         assert yaml.safe_load(ready.read_text()) == {'/clock': 'dds', '/m': 'dds', '/x': 'stream'}
 
@@ -105,13 +115,7 @@ def test_interrupted_recorder_reads_the_stream_to_its_end_and_finalizes_the_bag(
     """
     read_fd, write_fd = open_pipe()
     ready = tmp_path / 'recorder.ready'
-    recorder = subprocess.Popen(
-        [str(Path(get_package_prefix('tether_bringup')) / 'lib' / 'tether_bringup' / 'recorder'), '--ros-args',
-         '-p', f'bag_directory:={tmp_path / "bag"}', '-p', f'ready_file:={ready}', '-p', f'stream_fd:={read_fd}',
-         '-p', "stream_nodes:=['/group_a']", '-p', "expected_nodes:=['group_a']", '-p', 'settle_time:=0.3',
-         '-p', 'flush_period:=0.05'],
-        pass_fds=(read_fd,), stdout=subprocess.PIPE, stderr=subprocess.STDOUT)
-    os.close(read_fd)
+    recorder = _start_recorder(tmp_path, read_fd, ['group_a'], 'flush_period:=0.05')
     group = Node('group_a', context=ros_context)
     executor = SingleThreadedExecutor(context=ros_context)
     executor.add_node(group)
@@ -120,11 +124,7 @@ def test_interrupted_recorder_reads_the_stream_to_its_end_and_finalizes_the_bag(
         stream = StreamWriter(write_fd)
         x_id = stream.announce('/x', '/group_a')
         stream.announced()
-        deadline = time.monotonic() + 60.0
-        while not ready.exists():
-            assert recorder.poll() is None, recorder.communicate()[0].decode()
-            assert time.monotonic() < deadline, 'the recorder did not get ready within 60 s'
-            _spin(executor, 0.05)
+        _wait_ready(recorder, ready, executor)
         serialize = cdr.serializer(PointStamped)
         sent = 0
         start = time.monotonic()
