@@ -9,6 +9,7 @@ import os
 import signal
 import subprocess
 import time
+from contextlib import contextmanager
 from pathlib import Path
 
 import yaml
@@ -40,16 +41,34 @@ def _spin(executor, seconds: float) -> None:
         executor.spin_once(timeout_sec=0.01)
 
 
-def _start_recorder(tmp_path: Path, read_fd: int, expected: list[str], *parameters: str) -> subprocess.Popen:
-    """The recorder, its stream's read end passed to it (and closed here), the group being ``/group_a``."""
+@contextmanager
+def _recorder_and_group(ros_context, tmp_path: Path, node_names: list[str], *parameters: str):
+    """The recorder, with the read end of its stream (group ``/group_a``), and the test's nodes on one executor.
+
+    Yields (recorder process, stream writer, nodes by name, executor); on leaving, the recorder must have
+    exited with status 0 (the test stops it), and the nodes are destroyed.
+    """
+    read_fd, write_fd = open_pipe()
     recorder = subprocess.Popen(
         [str(Path(get_package_prefix('tether_bringup')) / 'lib' / 'tether_bringup' / 'recorder'), '--ros-args',
          '-p', f'bag_directory:={tmp_path / "bag"}', '-p', f'ready_file:={tmp_path / "recorder.ready"}',
-         '-p', f'stream_fd:={read_fd}', '-p', "stream_nodes:=['/group_a']", '-p', f'expected_nodes:={expected}',
+         '-p', f'stream_fd:={read_fd}', '-p', "stream_nodes:=['/group_a']", '-p', f'expected_nodes:={node_names}',
          '-p', 'settle_time:=0.3', *(item for parameter in parameters for item in ('-p', parameter))],
         pass_fds=(read_fd,), stdout=subprocess.PIPE, stderr=subprocess.STDOUT)
     os.close(read_fd)
-    return recorder
+    nodes = {name: Node(name, context=ros_context) for name in node_names}
+    executor = SingleThreadedExecutor(context=ros_context)
+    for node in nodes.values():
+        executor.add_node(node)
+    try:
+        yield recorder, StreamWriter(write_fd), nodes, executor
+        output = recorder.communicate(timeout=60)[0].decode()
+        assert recorder.returncode == 0, output
+    finally:
+        if recorder.poll() is None:
+            recorder.kill()
+        for node in nodes.values():
+            node.destroy_node()
 
 
 def _wait_ready(recorder: subprocess.Popen, ready: Path, executor) -> None:
@@ -61,19 +80,12 @@ def _wait_ready(recorder: subprocess.Popen, ready: Path, executor) -> None:
 
 
 def test_group_only_topic_comes_from_the_stream_and_a_shared_one_from_dds(ros_context, tmp_path):
-    read_fd, write_fd = open_pipe()
     ready = tmp_path / 'recorder.ready'
-    recorder = _start_recorder(tmp_path, read_fd, ['group_a', 'outside'])
-    group = Node('group_a', context=ros_context)
-    outside = Node('outside', context=ros_context)
-    executor = SingleThreadedExecutor(context=ros_context)
-    executor.add_node(group)
-    executor.add_node(outside)
-    try:
+    with _recorder_and_group(ros_context, tmp_path, ['group_a', 'outside']) as (recorder, stream, nodes, executor):
+        group, outside = nodes['group_a'], nodes['outside']
         group_x = group.create_publisher(PointStamped, '/x', STATE)
         group_m = group.create_publisher(PointStamped, '/m', STATE)
         outside_m = outside.create_publisher(PointStamped, '/m', STATE)
-        stream = StreamWriter(write_fd)
         x_id, m_id = stream.announce('/x', '/group_a'), stream.announce('/m', '/group_a')
         stream.announced()
         serialize = cdr.serializer(PointStamped)
@@ -94,13 +106,6 @@ def test_group_only_topic_comes_from_the_stream_and_a_shared_one_from_dds(ros_co
         _spin(executor, 0.5)
         stream.close()
         recorder.send_signal(signal.SIGINT)
-        output = recorder.communicate(timeout=60)[0].decode()
-        assert recorder.returncode == 0, output
-    finally:
-        if recorder.poll() is None:
-            recorder.kill()
-        group.destroy_node()
-        outside.destroy_node()
     bag = read_bag(tmp_path / 'bag')
     assert bag.complete
     x = bag.decoded('/x')
@@ -113,15 +118,10 @@ def test_interrupted_recorder_reads_the_stream_to_its_end_and_finalizes_the_bag(
     """Ctrl-C while messages pour in: the recorder writes every message the group sent before it closed
     the stream, and the bag is complete (an interrupt inside a chunk's write would leave it unreadable).
     """
-    read_fd, write_fd = open_pipe()
     ready = tmp_path / 'recorder.ready'
-    recorder = _start_recorder(tmp_path, read_fd, ['group_a'], 'flush_period:=0.05')
-    group = Node('group_a', context=ros_context)
-    executor = SingleThreadedExecutor(context=ros_context)
-    executor.add_node(group)
-    try:
-        group.create_publisher(PointStamped, '/x', STATE)
-        stream = StreamWriter(write_fd)
+    with _recorder_and_group(ros_context, tmp_path, ['group_a'], 'flush_period:=0.05') as (
+            recorder, stream, nodes, executor):
+        nodes['group_a'].create_publisher(PointStamped, '/x', STATE)
         x_id = stream.announce('/x', '/group_a')
         stream.announced()
         _wait_ready(recorder, ready, executor)
@@ -138,12 +138,6 @@ def test_interrupted_recorder_reads_the_stream_to_its_end_and_finalizes_the_bag(
                 recorder.send_signal(signal.SIGINT)
                 interrupted = True
         stream.close()
-        output = recorder.communicate(timeout=60)[0].decode()
-        assert recorder.returncode == 0, output
-    finally:
-        if recorder.poll() is None:
-            recorder.kill()
-        group.destroy_node()
     bag = read_bag(tmp_path / 'bag')
     assert bag.complete, bag.damage_line()
     assert [msg.point.x for _, msg in bag.decoded('/x')] == [float(index) for index in range(1, sent + 1)]
