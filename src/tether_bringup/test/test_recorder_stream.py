@@ -42,8 +42,10 @@ def _spin(executor, seconds: float) -> None:
 
 
 @contextmanager
-def _recorder_and_group(ros_context, tmp_path: Path, node_names: list[str], *parameters: str):
-    """The recorder, with the read end of its stream (group ``/group_a``), and the test's nodes on one executor.
+def _recorder_and_group(ros_context, tmp_path: Path, node_names: list[str], *parameters: str,
+                        expected: list[str] | None = None):
+    """The recorder, with the read end of its stream (group ``/group_a``), and the test's nodes on one executor;
+    the recorder waits for ``expected`` nodes (default: ``node_names``).
 
     Yields (recorder process, stream writer, nodes by name, executor); on leaving, the recorder must have
     exited with status 0 (the test stops it), and the nodes are destroyed.
@@ -52,7 +54,7 @@ def _recorder_and_group(ros_context, tmp_path: Path, node_names: list[str], *par
     recorder = subprocess.Popen(
         [str(Path(get_package_prefix('tether_bringup')) / 'lib' / 'tether_bringup' / 'recorder'), '--ros-args',
          '-p', f'bag_directory:={tmp_path / "bag"}', '-p', f'ready_file:={tmp_path / "recorder.ready"}',
-         '-p', f'stream_fd:={read_fd}', '-p', "stream_nodes:=['/group_a']", '-p', f'expected_nodes:={node_names}',
+         '-p', f'stream_fd:={read_fd}', '-p', "stream_nodes:=['/group_a']", '-p', f'expected_nodes:={expected or node_names}',
          '-p', 'settle_time:=0.3', *(item for parameter in parameters for item in ('-p', parameter))],
         pass_fds=(read_fd,), stdout=subprocess.PIPE, stderr=subprocess.STDOUT)
     os.close(read_fd)
@@ -112,6 +114,38 @@ def test_group_only_topic_comes_from_the_stream_and_a_shared_one_from_dds(ros_co
     assert [msg.point.x for _, msg in x] == [1.0] + [float(index) for index in range(2, 500)]
     assert [log_time for log_time, _ in x] == [NS] + [index * NS for index in range(2, 500)]
     assert sorted(msg.point.x for _, msg in bag.decoded('/m')) == [2.0, 3.0]
+
+
+def test_a_streamed_topic_that_an_outside_node_starts_publishing_is_recorded_from_dds(ros_context, tmp_path):
+    ready = tmp_path / 'recorder.ready'
+    with _recorder_and_group(ros_context, tmp_path, ['group_a'], expected=['group_a', 'late']) as (
+            recorder, stream, nodes, executor):
+        group_x = nodes['group_a'].create_publisher(PointStamped, '/x', STATE)
+        x_id = stream.announce('/x', '/group_a')
+        stream.announced()
+        deadline = time.monotonic() + 60.0
+        while nodes['group_a'].count_subscribers('/clock') < 1:  # the recorder is up
+            assert time.monotonic() < deadline, 'the recorder did not start within 60 s'
+            _spin(executor, 0.05)
+        _spin(executor, 1.0)  # ten discoveries: the recorder takes /x from the stream
+        late = Node('late', context=ros_context)
+        executor.add_node(late)
+        try:
+            late_x = late.create_publisher(PointStamped, '/x', STATE)
+            _wait_ready(recorder, ready, executor)
+            _spin(executor, 0.5)
+            assert yaml.safe_load(ready.read_text()) == {'/clock': 'dds', '/x': 'dds'}
+            group_x.publish(_point(2.0, 2.0))
+            late_x.publish(_point(3.0, 3.0))
+            stream.add(x_id, cdr.serializer(PointStamped)(_point(2.0, 99.0)))
+            for publisher in (group_x, late_x):
+                assert publisher.wait_for_all_acked(Duration(seconds=30))
+            _spin(executor, 0.5)
+            stream.close()
+            recorder.send_signal(signal.SIGINT)
+        finally:
+            late.destroy_node()
+    assert sorted(msg.point.x for _, msg in read_bag(tmp_path / 'bag').decoded('/x')) == [2.0, 3.0]
 
 
 def test_interrupted_recorder_reads_the_stream_to_its_end_and_finalizes_the_bag(ros_context, tmp_path):

@@ -18,7 +18,9 @@ a thread reads the CDR bytes of what the group's nodes (``stream_nodes``) publis
 topic whose every publisher the group has announced is recorded from there, in the order
 the group published it, with no DDS subscription: the write to a reader in another process
 was the largest cost of the group's thread. A topic that a process outside the group
-publishes too is subscribed to as above, and its stream frames are dropped. The recorder is
+publishes too is subscribed to as above, and its stream frames are dropped; so is a streamed
+topic once such a publisher appears (then volatile: the group's publishers would resend their
+history, which the bag already holds). The recorder is
 ready once the group has announced its publishers; at shutdown it reads the stream to its
 end (the group has exited) before it finalizes the bag.
 """
@@ -122,6 +124,8 @@ class Recorder(Node):
         self._stream_topics: dict[int, str] = {}
         self._stream_routes: dict[str, object] = {}
         self._stream_pending: dict[str, list[bytes]] = {}
+        self._streamed: dict[str, tuple[str, int]] = {}
+        """Topics recorded from the stream: their type and publisher count when last checked."""
         self._closed = False
         self._stream_thread = None
         self._subscribe('/clock', 'rosgraph_msgs/msg/Clock', [QosRecord(depth=1)], '')
@@ -134,6 +138,9 @@ class Recorder(Node):
     def discover(self) -> None:
         """Subscribe to new topics (or take them from the group's stream); report readiness once the graph has settled."""
         waiting = False
+        for topic, (type_name, count) in list(self._streamed.items()):
+            if self.count_publishers(topic) != count:
+                waiting |= self._check_streamed(topic, type_name)
         for topic, types in self.get_topic_names_and_types():
             if topic in self._subscriptions_by_topic or topic in self._exclude:
                 continue
@@ -181,13 +188,16 @@ class Recorder(Node):
         return all(subscription.get_publisher_count() >= self.count_publishers(topic)
                    for topic, subscription in self._subscriptions_by_topic.items() if subscription is not None)
 
-    def _subscribe(self, topic: str, type_name: str, qos: list[QosRecord], type_hash: str) -> None:
+    def _subscribe(self, topic: str, type_name: str, qos: list[QosRecord], type_hash: str,
+                   durability: DurabilityPolicy | None = None) -> None:
         msg_type = self._message_class(topic, type_name)
         if msg_type is None:
             return
         with self._lock:
             self.bag.add_topic(topic, type_name, qos, type_hash)
         profile = qos_profile(qos, self.params['queue_depth'])
+        if durability is not None:
+            profile.durability = durability
         self._subscriptions_by_topic[topic] = self.create_subscription(
             msg_type, topic, self._writer(topic, type_name), profile, raw=True)
 
@@ -198,10 +208,33 @@ class Recorder(Node):
             self._stream_routes[topic] = _DROP
             self._stream_pending.pop(topic, None)
             return
+        self._streamed[topic] = (type_name, len(qos))
         self.bag.add_topic(topic, type_name, qos, type_hash)
         write = self._stream_routes[topic] = self._writer(topic, type_name)
         for data in self._stream_pending.pop(topic, []):
             write(data)
+
+    def _check_streamed(self, topic: str, type_name: str) -> bool:
+        """A streamed topic's publishers changed: if a node outside the group publishes it now, record it from
+        DDS from here on, volatile (the group's publishers would resend their history, already recorded), and
+        drop its stream frames. Return True while a publisher's node is not known yet.
+        """
+        publishers = self.get_publishers_info_by_topic(topic)
+        if any(info.node_name == UNKNOWN_NODE for info in publishers):
+            return True
+        outside = {f'{info.node_namespace.rstrip("/")}/{info.node_name}' for info in publishers} - self._stream_nodes
+        if not outside:
+            self._streamed[topic] = (type_name, len(publishers))
+            return False
+        del self._streamed[topic]
+        self.get_logger().warning(f'recording {topic} over DDS from now on: {", ".join(sorted(outside))}, outside '
+                                  f'the node group, publishes it too')
+        with self._lock:
+            self._stream_routes[topic] = _DROP
+        qos = [qos_record(info.qos_profile) for info in publishers]
+        self._subscribe(topic, type_name, qos, type_hash_string(publishers[0].topic_type_hash),
+                        durability=DurabilityPolicy.VOLATILE)
+        return False
 
     def _message_class(self, topic: str, type_name: str):
         try:
