@@ -397,8 +397,8 @@ class Lockstep:
 
     def _try_join(self) -> None:
         """Join once every node of the run is in the graph (``TETHERSIM_NODES``, set by the bringup),
-        the recorder has subscribed to every topic (its ready file, ``TETHERSIM_RECORDER_READY``,
-        exists), every input has a publisher and every publisher of the node has matched every
+        the recorder has subscribed to every topic or taken it from the group's stream (its ready file,
+        ``TETHERSIM_RECORDER_READY``, exists), every input has a publisher and every publisher of the node has matched every
         subscription the graph shows, all unchanged for ``JOIN_SETTLE``: no message of the first
         ticks is published before its subscribers are matched. Matching is seen from each side
         on its own: the recorder's subscription matching a publisher does not mean the publisher
