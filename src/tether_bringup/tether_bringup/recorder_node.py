@@ -215,20 +215,23 @@ class Recorder(Node):
             write(data)
 
     def _check_streamed(self, topic: str, type_name: str) -> bool:
-        """A streamed topic's publishers changed: if a node outside the group publishes it now, record it from
-        DDS from here on, volatile (the group's publishers would resend their history, already recorded), and
-        drop its stream frames. Return True while a publisher's node is not known yet.
+        """A streamed topic's publishers changed: if a node the group did not announce for it publishes it now
+        (outside the group, or a publisher the group made after linking), record it from DDS from here on,
+        volatile (the group's publishers would resend their history, already recorded), and drop its stream
+        frames. Return True while a publisher's node is not known yet.
         """
         publishers = self.get_publishers_info_by_topic(topic)
         if any(info.node_name == UNKNOWN_NODE for info in publishers):
             return True
-        outside = {f'{info.node_namespace.rstrip("/")}/{info.node_name}' for info in publishers} - self._stream_nodes
+        with self._lock:
+            announced = set(self._announced.get(topic, ()))
+        outside = {f'{info.node_namespace.rstrip("/")}/{info.node_name}' for info in publishers} - announced
         if not outside:
             self._streamed[topic] = (type_name, len(publishers))
             return False
         del self._streamed[topic]
-        self.get_logger().warning(f'recording {topic} over DDS from now on: {", ".join(sorted(outside))}, outside '
-                                  f'the node group, publishes it too')
+        self.get_logger().warning(f'recording {topic} over DDS from now on: {", ".join(sorted(outside))} publishes '
+                                  f'it too, not through the node group\'s stream')
         with self._lock:
             self._stream_routes[topic] = _DROP
         qos = [qos_record(info.qos_profile) for info in publishers]
