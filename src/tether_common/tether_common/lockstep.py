@@ -493,10 +493,15 @@ class GroupPublisher(Publisher):
     record_id: int
 
     def publish(self, msg) -> None:
-        data = msg if self.serialize is None or not isinstance(msg, self.msg_type) else self.serialize(msg)
+        data = msg
+        if isinstance(msg, self.msg_type):
+            if self.serialize is not None:
+                data = self.serialize(msg)
+            elif self.record is not None:  # a type cdr does not write: rclpy's bytes serve DDS and the stream
+                data = serialize_message(msg)
         super().publish(data)
         if self.record is not None:
-            self.record.add(self.record_id, data if isinstance(data, bytes) else serialize_message(data))
+            self.record.add(self.record_id, data)
         for deliver in self.handoffs:
             deliver(copy_message(msg))
 
