@@ -88,6 +88,15 @@ def qos_profile(records: list[QosRecord], depth: int) -> QoSProfile:
     )
 
 
+def publisher_nodes(publishers) -> set[str] | None:
+    """The fully qualified names of the nodes of ``publishers`` (rclpy's TopicEndpointInfo), or None while
+    the graph does not know one of them yet.
+    """
+    if any(info.node_name == UNKNOWN_NODE for info in publishers):
+        return None
+    return {f'{info.node_namespace.rstrip("/")}/{info.node_name}' for info in publishers}
+
+
 def streamed_topics(ready_file: Path) -> set[str]:
     """The topics a recorder's ready file says it takes from the node group's stream."""
     routes = yaml.safe_load(ready_file.read_text()) if ready_file.exists() else None
@@ -149,8 +158,8 @@ class Recorder(Node):
                 continue
             qos = [qos_record(info.qos_profile) for info in publishers]
             type_hash = type_hash_string(publishers[0].topic_type_hash)
-            nodes = {f'{info.node_namespace.rstrip("/")}/{info.node_name}' for info in publishers}
-            if self._stream_nodes and any(info.node_name == UNKNOWN_NODE for info in publishers):
+            nodes = publisher_nodes(publishers)
+            if self._stream_nodes and nodes is None:
                 waiting = True
                 continue
             with self._lock:
@@ -221,11 +230,11 @@ class Recorder(Node):
         frames. Return True while a publisher's node is not known yet.
         """
         publishers = self.get_publishers_info_by_topic(topic)
-        if any(info.node_name == UNKNOWN_NODE for info in publishers):
+        nodes = publisher_nodes(publishers)
+        if nodes is None:
             return True
         with self._lock:
-            announced = set(self._announced.get(topic, ()))
-        outside = {f'{info.node_namespace.rstrip("/")}/{info.node_name}' for info in publishers} - announced
+            outside = nodes - self._announced.get(topic, set())
         if not outside:
             self._streamed[topic] = (type_name, len(publishers))
             return False
