@@ -145,14 +145,12 @@ def end_tensions(a: np.ndarray, b: np.ndarray, length: float, mu: float, ea: flo
     dr, dz, horizontal = _geometry(a, b)
     ls = _stretched_length(dr, dz, length, mu, ea, g)
     mu_s = mu * length / ls
-    t_b = catenary.tension_b_point(dr, dz, ls, mu_s, g)
+    clamped, s, u = catenary.point_parameters(dr, dz, ls)
+    t_b = catenary.tension_b_from_parameters(dr, dz, clamped, s, u, mu_s * g)
     t_a = t_b - mu_s * g * dz
     if dr == 0.0:
         sin_b = 1.0 if dz + ls > 0.0 and ls != -dz else -1.0
         return t_a, t_b, np.array([0.0, 0.0, sin_b])
-    chord = math.hypot(dr, dz)
-    s = math.sqrt(dr * dr + (ls - chord) * (ls + chord))
-    u = catenary.inverse_sinhc_point((ls - chord) * (ls + chord) / ((s + dr) * dr))
     beta = math.atan(math.sinh(math.atanh(dz / ls) + u))
     return t_a, t_b, math.cos(beta) * horizontal + np.array([0.0, 0.0, math.sin(beta)])
 

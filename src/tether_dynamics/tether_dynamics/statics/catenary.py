@@ -361,10 +361,10 @@ def inverse_sinhc_point(excess: float) -> float:
     raise RuntimeError(msg)
 
 
-def _point_parameters(dr: float, dz: float, length: float) -> tuple[float, float, float]:
-    """Scalar Eq. 3.4 for :func:`tension_b_point` and :func:`shape_point`: the length (raised to the
-    chord where rounding left it below), ``S = sqrt(L² - Δz²)`` and ``u`` (inf for a vertical hang,
-    0 for a taut tether), as :func:`solve` computes them.
+def point_parameters(dr: float, dz: float, length: float) -> tuple[float, float, float]:
+    """Scalar Eq. 3.4 for :func:`tension_b_point`, :func:`shape_point` and the quasi-static plant's end
+    tensions: the length (raised to the chord where rounding left it below), ``S = sqrt(L² - Δz²)``
+    and ``u`` (inf for a vertical hang, 0 for a taut tether), as :func:`solve` computes them.
 
     Raises:
         ValueError: A length shorter than the chord, or a negative ``dr``.
@@ -387,7 +387,7 @@ def shape_point(dr: float, dz: float, length: float, n: int) -> tuple[np.ndarray
     :func:`solve`'s numpy work on a batch of one (about 300 µs here): the same points to rounding
     away from a vertical hang (:func:`tether_dynamics.plant.quasi_static.shape_points`).
     """
-    length, _, u = _point_parameters(dr, dz, length)
+    length, _, u = point_parameters(dr, dz, length)
     ratio = dz / length
     m = math.atanh(ratio) if abs(ratio) < 1.0 else math.copysign(math.inf, ratio)
     a = 0.0 if math.isinf(u) else math.inf if u == 0.0 else dr / (2.0 * u)  # Eq. 3.3-3.4
@@ -402,8 +402,13 @@ def tension_b_point(dr: float, dz: float, length: float,
     A ``math``-only path, about 50 times faster than :func:`solve` on one point; used by
     the controller-rate reference length. Returns ``inf`` for a taut tether.
     """
-    length, s, u = _point_parameters(dr, dz, length)
-    lg = linear_density * gravity
+    return tension_b_from_parameters(dr, dz, *point_parameters(dr, dz, length), linear_density * gravity)
+
+
+def tension_b_from_parameters(dr: float, dz: float, length: float, s: float, u: float, lg: float) -> float:
+    """Eq. 3.12: the tension at the UAV (N) from :func:`point_parameters`' length, S and u, for a
+    weight per length ``lg`` (N/m); ``inf`` for a taut tether.
+    """
     if dr == 0.0:
         return 0.0 if -dz == length else 0.5 * lg * (length + dz)
     if u == 0.0:
