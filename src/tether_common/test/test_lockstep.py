@@ -225,3 +225,36 @@ def test_lockstep_nodes_of_one_process_share_one_clock_subscription(ros_context)
     links.close()
     for node in (master, *nodes):
         node.destroy_node()
+
+
+
+def test_group_publishers_write_to_dds_only_while_a_reader_outside_is_matched(ros_context):
+    """GroupPublisher: with only the process's idle readers matched, a message is handed over but not written
+    to DDS, so a reader from outside that joins later does not get it (a transient-local reader would, from the
+    writer's history, had it been written); once that reader has matched, each message is written.
+    """
+    producer = Node('producer', context=ros_context)
+    consumer = Node('consumer', context=ros_context)
+    handed = []
+    consumer.create_subscription(PointStamped, '/side', lambda msg: handed.append(msg.point.x), STATE)
+    side = producer.create_publisher(PointStamped, '/side', STATE)
+    links = link_in_process([producer, consumer])
+    assert side.idle_readers == 1
+    executor = make_executor(ros_context)
+    executor.add_node(producer)
+    executor.add_node(consumer)
+    assert _spin_until(executor, lambda: side.get_subscription_count() == 1)
+    for k in (1, 2, 3):
+        side.publish(_point(k * 10 * MS, float(k)))
+    late = Node('late_reader', context=ros_context)  # not linked: a reader outside the group
+    received = []
+    late.create_subscription(PointStamped, '/side', lambda msg: received.append(msg.point.x), STATE)
+    executor.add_node(late)
+    assert _spin_until(executor, lambda: side.get_subscription_count() == 2)
+    side.publish(_point(40 * MS, 4.0))
+    assert _spin_until(executor, lambda: received)
+    _spin_until(executor, lambda: False, timeout=0.3)  # a history, had it been written, arrives with it
+    assert received == [4.0] and handed == [1.0, 2.0, 3.0, 4.0]
+    links.close()
+    for node in (producer, consumer, late):
+        node.destroy_node()

@@ -50,8 +50,9 @@ be that far ahead of a consumer busy in a long tick: an input's reader keeps at 
 **In-process hand-off.** When several nodes share a process (``tether_bringup``'s node
 group), :func:`link_in_process` hands each message one of them publishes on another's
 input straight to that input, as its own copy (:mod:`tether_common.message_copy`), after
-publishing it over DDS (to other processes) as the CDR bytes :mod:`tether_common.cdr`
-serializes, and adding those bytes to the recorder's stream (:mod:`tether_common.record_stream`). The input's DDS
+writing it to DDS as the CDR bytes :mod:`tether_common.cdr` serializes (while a reader other
+than the idle ones below has matched the topic: :class:`GroupPublisher`), and adding those bytes to the
+recorder's stream (:mod:`tether_common.record_stream`). The input's DDS
 reader stays in the graph, matched, so ``ros2 topic info``, the join rules and the graph a
 run writes are those of separate processes; its samples are not taken, and it is best effort
 (``ros2 topic info -v`` shows it so), which spares the publisher heartbeats and acks. A take and its
@@ -485,23 +486,34 @@ class GroupPublisher(Publisher):
     :mod:`tether_common.cdr` (12-20 µs less of the group's Python thread per message than
     rclpy's conversion and Fast DDS's serialization), then hands it to the subscribers of its
     process that :func:`link_in_process` linked to it, each as its own copy.
+
+    It writes to DDS only while a reader other than its process's idle ones is matched (another
+    process's, ``ros2 topic echo``'s, a subscription made after linking): with none, a write
+    reached nobody and cost the group's Python thread 10-20 µs. A reader that joins late gets
+    the messages published after it matched, not the transient-local history of those before:
+    writing that history at the match would hand the recorder, when it turns a streamed topic
+    over to DDS, messages it already has from the stream.
     """
 
     handoffs: list[Callable[[object], None]]
     serialize: Callable[[object], bytes] | None
     record: StreamWriter | None
     record_id: int
+    idle_readers: int
 
     def publish(self, msg) -> None:
-        data = msg
-        if isinstance(msg, self.msg_type):
-            if self.serialize is not None:
-                data = self.serialize(msg)
-            elif self.record is not None:  # a type cdr does not write: rclpy's bytes serve DDS and the stream
-                data = serialize_message(msg)
-        super().publish(data)
-        if self.record is not None:
-            self.record.add(self.record_id, data)
+        write = self.get_subscription_count() > self.idle_readers
+        if write or self.record is not None:
+            data = msg
+            if isinstance(msg, self.msg_type):
+                if self.serialize is not None:
+                    data = self.serialize(msg)
+                elif self.record is not None:  # a type cdr does not write: rclpy's bytes serve DDS and the stream
+                    data = serialize_message(msg)
+            if write:
+                super().publish(data)
+            if self.record is not None:
+                self.record.add(self.record_id, data)
         for deliver in self.handoffs:
             deliver(copy_message(msg))
 
@@ -511,6 +523,8 @@ class InProcessLinks:
 
     def __init__(self) -> None:
         self.readers: list = []
+        self.idle_topics: dict[str, int] = {}
+        """Idle readers per topic."""
 
     def idle(self, node: Node, subscription):
         """Replace ``subscription`` with a DDS reader of its topic and type that keeps it in the graph,
@@ -523,6 +537,7 @@ class InProcessLinks:
         with node.handle:
             reader = _rclpy.Subscription(node.handle, msg_type, topic, IDLE_READER.get_c_qos_profile())
         self.readers.append(reader)
+        self.idle_topics[topic] = self.idle_topics.get(topic, 0) + 1
         return reader
 
     def close(self) -> None:
@@ -584,6 +599,9 @@ def link_in_process(nodes: Sequence[Node], record: StreamWriter | None = None) -
                 deliver = _plain_delivery(subscription.callback, subscription.raw)
                 links.idle(node, subscription)
                 link(topic, deliver)
+    for topic, topic_publishers in publishers.items():
+        for publisher in topic_publishers:
+            publisher.idle_readers = links.idle_topics.get(topic, 0)
     return links
 
 
@@ -593,6 +611,7 @@ def _to_group_publisher(publisher: Publisher) -> None:
     publisher.__class__ = GroupPublisher
     publisher.handoffs = []
     publisher.record = None
+    publisher.idle_readers = 0
     try:
         publisher.serialize = cdr.serializer(publisher.msg_type)
     except NotImplementedError:
