@@ -83,6 +83,10 @@ def test_summary_gives_each_process_cpu_per_simulated_second_and_their_total(rec
     assert allows == pytest.approx(1 / float(main), rel=0.02), ceiling
     assert float(ceiling.rpartition('ceiling ')[2].rstrip('x')) == pytest.approx(
         min((os.cpu_count() or 1) / total, allows), rel=0.01), ceiling
+    machine = next(line for line in lines if line.startswith("the machine's"))
+    split = dict(part.rsplit(' ', 1) for part in machine.split('(/proc/stat): ')[1].split(', '))
+    assert list(split) == ['this run', 'other processes', 'idle', 'stolen by the hypervisor'], machine
+    assert sum(int(share.rstrip('%')) for share in split.values()) == pytest.approx(100, abs=2), machine
 
 
 def _by_topic(sent):

@@ -44,6 +44,9 @@ from tether_bringup.errors import BagError
 from tether_bringup.errors import RunDirectoryError
 from tether_bringup.errors import RunError
 from tether_bringup.graph_snapshot import write_graph
+from tether_bringup.machine_load import CoreTimes
+from tether_bringup.machine_load import core_times
+from tether_bringup.machine_load import shares
 from tether_bringup.node_group import GROUP_NAME
 from tether_bringup.node_group import node_classes
 from tether_bringup.node_group import read_cpu
@@ -306,6 +309,16 @@ class RunCpu:
         self.start: dict[str, tuple[float, float]] = {}
         self.end: dict[str, tuple[float, float]] = {}
         self.sim_time = 0.0
+        self.machine_start: CoreTimes | None = None
+        self.machine_end: CoreTimes | None = None
+
+    def mark_start(self, children: list[ChildProcess]) -> None:
+        """The first tick: each process's CPU and the machine's cores' times."""
+        self.start, self.machine_start = self.sample(children), core_times()
+
+    def mark_end(self, children: list[ChildProcess]) -> None:
+        """The last ack: each process's CPU and the machine's cores' times."""
+        self.end, self.machine_end = self.sample(children), core_times()
 
     @staticmethod
     def sample(children: list[ChildProcess]) -> dict[str, tuple[float, float]]:
@@ -330,7 +343,7 @@ class RunCpu:
 def _advance(source, barrier: Barrier, children: list[ChildProcess], executor, options: RunOptions,
              cpu: RunCpu) -> str | None:
     """Publish /clock step by step, each once the barrier has reached the window behind it; then wait for the last."""
-    cpu.start = cpu.sample(children)
+    cpu.mark_start(children)
     start_time = source.sim_time
     window_ns = round(options.lockstep_window * 1e9)
     next_check = time.monotonic()
@@ -360,7 +373,7 @@ def _advance(source, barrier: Barrier, children: list[ChildProcess], executor, o
         _wait_for_barrier(barrier, source.published_ns, children, executor)
     except RunError as error:
         return str(error)
-    cpu.end = cpu.sample(children)
+    cpu.mark_end(children)
     cpu.sim_time = source.sim_time - start_time
     return None
 
@@ -417,6 +430,11 @@ def _summary(options: RunOptions, source, children, wall: float, failure: str | 
         if members:
             lines.append('the node group\'s rows under it: each node\'s lockstep callbacks (its ticks and what they '
                          'publish); executor and DDS: the rest (rclpy taking and converting messages, Fast DDS\'s threads)')
+        if cpu.machine_start is not None and cpu.machine_end is not None:
+            split = shares(cpu.machine_start, cpu.machine_end, total * cpu.sim_time)
+            if split is not None:
+                lines.append(f'the machine\'s {cores} cores from the first tick to the last ack (/proc/stat): '
+                             + ', '.join(f'{name} {share:.0%}' for name, share in split.items()))
     return lines
 
 
