@@ -14,6 +14,7 @@ from rosgraph_msgs.msg import Clock
 from tether_msgs.msg import LockstepAck
 
 from tether_common.lockstep import ACK_TOPIC
+from tether_common.lockstep import callback_cpu
 from tether_common import cdr
 from tether_common.lockstep import GroupPublisher
 from tether_common.lockstep import JOIN_SETTLE
@@ -257,4 +258,36 @@ def test_group_publishers_write_to_dds_only_while_a_reader_outside_is_matched(ro
     assert received == [4.0] and handed == [1.0, 2.0, 3.0, 4.0]
     links.close()
     for node in (producer, consumer, late):
+        node.destroy_node()
+
+
+def test_callback_cpu_gives_each_node_the_thread_cpu_of_its_ticks(ros_context):
+    """callback_cpu: the scheduler charges each node of the process the thread CPU of its own ticks: a node that
+    spends 5 ms of CPU a tick is charged that, one beside it that does nothing next to nothing.
+    """
+    master = Node('time_master', context=ros_context)
+    clock = master.create_publisher(Clock, '/clock', STATE)
+    busy, light = Node('busy', context=ros_context), Node('light', context=ros_context)
+
+    def spin_5ms(tick):
+        start = time.thread_time()
+        while time.thread_time() - start < 0.005:
+            pass
+    Lockstep(busy).every(0.01, spin_5ms)
+    Lockstep(light).every(0.01, lambda tick: None)
+    links = link_in_process([busy, light])
+    executor = make_executor(ros_context)
+    for node in (master, busy, light):
+        executor.add_node(node)
+    assert _spin_until(executor, lambda: clock.get_subscription_count() == 2)
+    before = callback_cpu()
+    tick_clock = Clock()
+    tick_clock.clock.nanosec = 40 * MS
+    clock.publish(tick_clock)
+    assert _spin_until(executor, lambda: callback_cpu()['/busy'] - before['/busy'] >= 0.02)
+    after = callback_cpu()
+    assert after['/busy'] - before['/busy'] == pytest.approx(0.02, rel=0.25)
+    assert after['/light'] - before['/light'] < 0.002
+    links.close()
+    for node in (master, busy, light):
         node.destroy_node()
