@@ -23,7 +23,9 @@ Stages:
    parameters as they are;
 6. ``NAME quadratic``: the same with the plant on quadratic elements at N = 20 (0.1 ms steps),
    the graph the throughput goal is set for (at least 5x real time in the node group on this
-   2-core machine); the last line says whether this run met it.
+   2-core machine); the last lines say whether this run met it, and how the machine's cores
+   were shared meanwhile (the run summary's ``/proc/stat`` line: this run, other processes,
+   idle, stolen by the hypervisor).
 
 Per process it reports CPU seconds from the first tick to the last ack (the run summary's
 ``cpu s/sim s``: start-up and shutdown excluded), messages handled counted from the
@@ -229,6 +231,8 @@ def main(argv: list[str] | None = None) -> int:
         rate, ceiling = rates[f'{scene} quadratic', 'group'], ceilings[f'{scene} quadratic', 'group']
         lines.append(f'goal: {scene} with quadratic elements at N = 20 at >= {GOAL:g}x real time in the node group: '
                      f'achieved {rate:.2f}x (ceiling {ceiling:.2f}x), {"met" if rate >= GOAL else "not met"}')
+        summary = (args.out / f'{scene}-quadratic-group' / 'summary.txt').read_text().splitlines()
+        lines += [f'  in that run, {line}' for line in summary if line.startswith("the machine's")]
     lines += ['', 'CPU per message (us) and CPU per simulated second (s/s) per process',
               f'{"stage":<24} {"config":<7} {"process":<10} {"msgs":>8} {"us/msg":>8} {"s/s":>7}']
     for r in rows:
