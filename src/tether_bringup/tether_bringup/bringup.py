@@ -302,7 +302,8 @@ class RunCpu:
     Their difference over the simulated time is a process's CPU per simulated second,
     without its start-up and shutdown, and independent of what else loads the machine. The
     same for each process's main thread, the one that runs Python (rclpy's executor and the
-    nodes' callbacks) and so uses at most one core whatever the DDS threads beside it do.
+    nodes' callbacks) and so uses at most one core whatever the DDS threads beside it do. And
+    the machine's cores' times at the same marks (:mod:`tether_bringup.machine_load`).
     """
 
     def __init__(self) -> None:
