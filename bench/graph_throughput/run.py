@@ -169,10 +169,15 @@ def _messages(run_dir: Path, nodes: list[str], group: tuple[str, ...]) -> dict[s
     return handled
 
 
+def _slug(label: str, config: str) -> str:
+    """The name of a stage's run directory (and scene file) under --out."""
+    return f'{label.strip("+ ").replace(" ", "-")}-{config}'
+
+
 def run_stage(out: Path, label: str, nodes: dict, config: str,
               duration: float) -> tuple[float, float, list[NodeRow]]:
     """Run one stage with one configuration; return the real-time factor, the ceiling and the per-process rows."""
-    slug = f'{label.strip("+ ").replace(" ", "-")}-{config}'
+    slug = _slug(label, config)
     run_dir = out / slug
     scene = out / f'{slug}.yaml'
     _scene(scene, nodes, duration, CONFIGS[config])
@@ -224,14 +229,14 @@ def main(argv: list[str] | None = None) -> int:
              'second and 1 / the busiest main thread\'s, as the run summary prints it)',
              f'{"stage":<24} {"topics":>6} ' + ' '.join(f'{"RTF " + n:>11} {"ceil " + n:>11}' for n in names)]
     for label in stages:
-        topics = len(read_bag(args.out / f'{label.strip("+ ").replace(" ", "-")}-after' / 'bag').topics)
+        topics = len(read_bag(args.out / _slug(label, 'after') / 'bag').topics)
         cells = [f'{rates[label, name]:11.2f} {ceilings[label, name]:11.2f}' for name in names]
         lines.append(f'{label:<24} {topics:>6} ' + ' '.join(cells))
     if plants:
         rate, ceiling = rates[f'{scene} quadratic', 'group'], ceilings[f'{scene} quadratic', 'group']
         lines.append(f'goal: {scene} with quadratic elements at N = 20 at >= {GOAL:g}x real time in the node group: '
                      f'achieved {rate:.2f}x (ceiling {ceiling:.2f}x), {"met" if rate >= GOAL else "not met"}')
-        summary = (args.out / f'{scene}-quadratic-group' / 'summary.txt').read_text().splitlines()
+        summary = (args.out / _slug(f'{scene} quadratic', 'group') / 'summary.txt').read_text().splitlines()
         lines += [f'  in that run, {line}' for line in summary if line.startswith("the machine's")]
     lines += ['', 'CPU per message (us) and CPU per simulated second (s/s) per process',
               f'{"stage":<24} {"config":<7} {"process":<10} {"msgs":>8} {"us/msg":>8} {"s/s":>7}']

@@ -228,7 +228,6 @@ def test_lockstep_nodes_of_one_process_share_one_clock_subscription(ros_context)
         node.destroy_node()
 
 
-
 def test_group_publishers_write_to_dds_only_while_a_reader_outside_is_matched(ros_context):
     """GroupPublisher: with only the process's idle readers matched, a message is handed over but not written
     to DDS, so a reader from outside that joins later does not get it (a transient-local reader would, from the
