@@ -331,23 +331,25 @@ def guide_tangent(x, rest, order, out):
 
 
 @njit(cache=True)
-def quadratic_forces(x, v, rest, n, fp, kv_on, u0, tens, tkv, f):
+def quadratic_forces(x, v, rest, n, fp, kv_on, u0, tens, tkv, f, tangents):
     """Quadratic elements, 2-point Gauss (Eq. D.8-D.10): the tension at each Gauss point into
     tens[2 e + g] (its Kelvin-Voigt part into tkv), the elastic and damping forces added into
     f, f_k -= T_g e_g dS_k/dzeta. Element 0's strain rate uses the material velocity u0 at the
-    guide way.
+    guide way. Each Gauss point's tangent r = dr/ds and stretch |r| go into
+    tangents[2 e + g, 0:3] and [.., 3], for the step's energy flows.
     """
     ea, c_kv = fp[FP_EA], fp[FP_KV]
-    r = np.empty(3)
     for e in range((n - 1) // 2):
         j = 2 * e
         k = 2.0 / rest[e]
         for gi in range(2):
             z = GAUSS[gi]
             sa, sb, sc = z - 0.5, -2.0 * z, z + 0.5
+            p = 2 * e + gi
+            r = tangents[p]
             _gauss_stretch(x, rest, e, gi, r)
             lam = np.sqrt(r[0] * r[0] + r[1] * r[1] + r[2] * r[2])
-            p = 2 * e + gi
+            r[3] = lam
             tkv[p] = 0.0
             if lam <= 1.0:
                 tens[p] = 0.0
@@ -536,6 +538,7 @@ def advance(x, v, rest, st, fp, rs, rp, g_tab, u_tab, t_a, t_b, n_sub, bs, inert
     drag = np.zeros((cap, 3))
     tens = np.zeros(cap)
     tkv = np.zeros(cap)
+    tangents = np.zeros((cap, 4))
     r, mesh = np.empty(3), np.zeros(3)
     p0, v0, pf, vf, u0, tan = np.empty(3), np.empty(3), np.empty(3), np.empty(3), np.empty(3), np.empty(3)
     force_uav, force_reel = np.empty(3), np.empty(3)
@@ -567,7 +570,7 @@ def advance(x, v, rest, st, fp, rs, rp, g_tab, u_tab, t_a, t_b, n_sub, bs, inert
                     f[e, c] += fc
                     f[e + 1, c] -= fc
         else:
-            quadratic_forces(x, v, rest, n, fp, kv_on, u0, tens, tkv, f)
+            quadratic_forces(x, v, rest, n, fp, kv_on, u0, tens, tkv, f, tangents)
             t_exit = quadratic_exit_force(f[0], lump(rest, n, order, mu, 0), fp, force_reel)
         if np.isfinite(acc[ACC_LAST_T]) and abs(t_exit - acc[ACC_LAST_T]) > acc[ACC_JUMP]:
             acc[ACC_JUMP] = abs(t_exit - acc[ACC_LAST_T])
@@ -694,11 +697,10 @@ def advance(x, v, rest, st, fp, rs, rp, g_tab, u_tab, t_a, t_b, n_sub, bs, inert
                         if tens[2 * e + gi] == 0.0 or tk == 0.0:
                             continue
                         z = GAUSS[gi]
-                        _gauss_stretch(x, rest, e, gi, r)
-                        lam = np.sqrt(r[0] * r[0] + r[1] * r[1] + r[2] * r[2])
+                        rg = tangents[2 * e + gi]
                         w = 0.0
                         for c in range(3):
-                            w += r[c] / lam * ((z - 0.5) * v[j, c] - 2.0 * z * v[j + 1, c] + (z + 0.5) * v[j + 2, c])
+                            w += rg[c] / rg[3] * ((z - 0.5) * v[j, c] - 2.0 * z * v[j + 1, c] + (z + 0.5) * v[j + 2, c])
                         p_kv -= tk * w
             acc[ACC_KV] += dt * p_kv
             acc[ACC_THROUGHPUT] += dt * abs(p_kv)
@@ -789,7 +791,7 @@ def end_state(x, v, rest, n, fp, order, kv_on, feed, seg, force_reel, force_uav)
         t_end = tens[e] + 0.5 * mu * g * (x[n - 1, 2] - x[e, 2]) / d * rest[e] if tens[e] > 0.0 and d > 0.0 else 0.0
     else:
         tkv = np.zeros(n)
-        quadratic_forces(x, v, rest, n, fp, kv_on, u0, tens, tkv, f)
+        quadratic_forces(x, v, rest, n, fp, kv_on, u0, tens, tkv, f, np.zeros((n, 4)))
         t_exit = quadratic_exit_force(f[0], lump(rest, n, order, mu, 0), fp, force_reel)
         w = 0.5 - np.sqrt(3.0) / 4.0  # zeta = -1/2 between the Gauss points -1/sqrt3 and 1/sqrt3
         for e in range((n - 1) // 2):
