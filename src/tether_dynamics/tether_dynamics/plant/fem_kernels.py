@@ -336,7 +336,7 @@ def quadratic_forces(x, v, rest, n, fp, kv_on, u0, tens, tkv, f, tangents):
     tens[2 e + g] (its Kelvin-Voigt part into tkv), the elastic and damping forces added into
     f, f_k -= T_g e_g dS_k/dzeta. Element 0's strain rate uses the material velocity u0 at the
     guide way. Each Gauss point's tangent r = dr/ds and stretch |r| go into
-    tangents[2 e + g, 0:3] and [.., 3], for the step's energy flows.
+    tangents[2 e + g, 0:3] and [.., 3], which the step's energy flows read.
     """
     ea, c_kv = fp[FP_EA], fp[FP_KV]
     for e in range((n - 1) // 2):
@@ -539,7 +539,7 @@ def advance(x, v, rest, st, fp, rs, rp, g_tab, u_tab, t_a, t_b, n_sub, bs, inert
     tens = np.zeros(cap)
     tkv = np.zeros(cap)
     tangents = np.zeros((cap, 4))
-    r, mesh = np.empty(3), np.zeros(3)
+    mesh = np.zeros(3)
     p0, v0, pf, vf, u0, tan = np.empty(3), np.empty(3), np.empty(3), np.empty(3), np.empty(3), np.empty(3)
     force_uav, force_reel = np.empty(3), np.empty(3)
     payout = rp[RP_RADIUS] * rs[RS_RATE]
@@ -654,8 +654,7 @@ def advance(x, v, rest, st, fp, rs, rp, g_tab, u_tab, t_a, t_b, n_sub, bs, inert
                 p_rest += mu * ldot * g * 0.5 * (x[e, 2] + x[e + 1, 2])
         else:
             for gi in range(2):
-                _gauss_stretch(x, rest, 0, gi, r)
-                eps = np.sqrt(r[0] * r[0] + r[1] * r[1] + r[2] * r[2]) - 1.0
+                eps = tangents[gi, 3] - 1.0
                 if eps > 0.0:
                     p_rest -= 0.5 * ea * eps * (1.0 + 0.5 * eps) * feed
             p_rest += mu * feed * g * (x[0, 2] / 6.0 + 2.0 / 3.0 * x[1, 2] + x[2, 2] / 6.0)
@@ -666,12 +665,11 @@ def advance(x, v, rest, st, fp, rs, rp, g_tab, u_tab, t_a, t_b, n_sub, bs, inert
                 mesh[c] = -0.5 * feed * (x[2, c] - x[0, c]) / rest[0]
                 p_rest -= lump(rest, n, order, mu, 1) * g * mesh[c] if c == 2 else 0.0
             for gi in range(2):
-                _gauss_stretch(x, rest, 0, gi, r)
-                lam = np.sqrt(r[0] * r[0] + r[1] * r[1] + r[2] * r[2])
+                rg = tangents[gi]
                 elastic = tens[gi] - tkv[gi]
                 if tens[gi] > 0.0:
                     for c in range(3):
-                        p_rest += elastic * r[c] / lam * 2.0 * GAUSS[gi] * mesh[c]
+                        p_rest += elastic * rg[c] / rg[3] * 2.0 * GAUSS[gi] * mesh[c]
         acc[ACC_REST] += dt * p_rest
         acc[ACC_THROUGHPUT] += dt * abs(p_rest)
         # Kelvin-Voigt dissipation: the damping tension's power on the nodes' velocities.
