@@ -126,19 +126,21 @@ def test_a_landing_beside_the_pad_comes_down_on_the_level_ground():
 WARM_UP_PROBE = r'''
 import json
 import numpy as np
-from uav_bridge.builtin_uav import BuiltinUav, BuiltinUavConfig
-from tether_dynamics.plant import bodies
-uav = BuiltinUav(BuiltinUavConfig(start=(15.0, 0.0, 0.0), start_height=28.0))
-before = len(bodies.body_step.signatures)
+from uav_bridge import builtin_uav, multirotor_control
+uav = builtin_uav.BuiltinUav(builtin_uav.BuiltinUavConfig(start=(15.0, 0.0, 0.0), start_height=28.0))
+def compiled():
+    return [len(builtin_uav._fly.signatures), len(multirotor_control._control.signatures)]
+before = compiled()
 uav.warm_up()
-warmed = len(bodies.body_step.signatures)
+warmed = compiled()
 for k in range(1, 4):
     uav.step(0.01 * k, np.array([-1.0, 0.0, -2.0]))
-print(json.dumps([before, warmed, len(bodies.body_step.signatures)]))
+print(json.dumps([before, warmed, compiled()]))
 '''
 
 
-def test_warm_up_compiles_the_body_step_a_flight_then_runs():
+def test_warm_up_compiles_the_flight_and_the_controller_a_flight_then_runs():
     out = subprocess.run([sys.executable, '-c', WARM_UP_PROBE], capture_output=True, text=True, check=True)
     before, warmed, after = json.loads(out.stdout)
-    assert before == 0 < warmed == after
+    assert before == [0, 0]
+    assert warmed == after == [1, 1]

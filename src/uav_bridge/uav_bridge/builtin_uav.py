@@ -23,12 +23,10 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
+from numba import njit
 
-from tether_common.rotation import quaternion_rotation
 from tether_dynamics.plant import bodies
-from tether_dynamics.plant.ends import cross
 from uav_bridge.multirotor_control import StationController
-from uav_bridge.multirotor_control import UavBodyState
 
 MODES = ('GUIDED', 'LAND')
 
@@ -82,7 +80,8 @@ class BuiltinUav:
         self.reference = self.start.copy()
         self.yaw = math.pi / 2
         self.thrust = 0.0
-        self.torque = np.zeros(3)
+        self.torque = np.zeros(3)                 # N m, body: the controller's, held over a step
+        self._land_ramp = np.array([0.0, 0.0, -config.land_speed])   # m/s, world: the reference's rate in LAND
         self._rest()
         self.controller = StationController(config.mass, self.inertia, config.gravity)
         self._t: float | None = None
@@ -92,12 +91,18 @@ class BuiltinUav:
             self.armed = True
 
     def warm_up(self) -> None:
-        """Advance a scratch copy of the body one step, so that numba compiles ``body_step`` now
-        (seconds in a fresh checkout; afterwards it loads it from its on-disk cache), while the node
-        starts, and not at the first tick in the air, where it counted in the run's CPU per simulated second.
+        """Fly a scratch copy of the body and controller one step, so that numba compiles
+        :func:`_fly`, ``body_step`` and the controller now (seconds in a fresh checkout; afterwards
+        it loads them from its on-disk cache), while the node starts, and not at the first tick in
+        the air, where it counted in the run's CPU per simulated second.
         """
-        bodies.body_step(self.body.copy(), self.config.mass, self.inertia, self.inertia_inv, self.rho, self.thrust,
-                         self.torque, np.zeros(3), self.config.gravity, self.config.dt)
+        cfg = self.config
+        body, zero = self.body.copy(), np.zeros(3)
+        _fly(body, 1, cfg.dt, zero, _NO_PAD, _NO_PAD, False, float(self.start[2]), cfg.pad_radius, False,
+             self.reference.copy(), cfg.land_speed, cfg.landed_below, cfg.mass, self.inertia, self.inertia_inv,
+             self.rho, self.thrust, self.torque, cfg.gravity)
+        StationController(cfg.mass, self.inertia, cfg.gravity).step_body(
+            0.0, body, self.reference.copy(), self.yaw, zero, self._land_ramp, self.rho, np.empty(3))
 
     def _rest(self, pad: np.ndarray | None = None, pad_velocity: np.ndarray | None = None) -> None:
         """At rest on the ground: where it touched down, or on the pad (``pad``: its rest point, world),
@@ -179,19 +184,16 @@ class BuiltinUav:
         before = self._pad if self._pad is not None else pad
         if self._t is not None and t > self._t:
             n_sub = max(1, math.ceil((t - self._t) / self.config.dt - 1e-9))
-            dt = (t - self._t) / n_sub
             velocity = None if pad is None else (pad - before) / (t - self._t)
-            for i in range(n_sub):
-                self._advance(dt, force, None if pad is None else before + (pad - before) * ((i + 1) / n_sub), velocity)
+            self._advance(n_sub, (t - self._t) / n_sub, force, before, pad, velocity)
         elif pad is not None and self._t is None and not self.armed and self._over(pad):
             self._touch_down(pad, None)
         self._pad = pad
         self._t = t
         if self.armed:
-            state = self._body_state()
-            ramp = [0.0, 0.0, -self.config.land_speed] if self.mode == 'LAND' else None
-            moment = cross(self.rho, quaternion_rotation(state.quaternion, 'the UAV attitude').matrix.T @ force)
-            self.thrust, self.torque = self.controller.step(t, state, self.reference, self.yaw, force, ramp, moment)
+            ramp = self._land_ramp if self.mode == 'LAND' else None
+            self.thrust = self.controller.step_body(t, self.body, self.reference, self.yaw, force, ramp, self.rho,
+                                                    self.torque)
         b = self.body
         return BuiltinUavState(self.armed, self.mode, b[0:3].copy(), b[3:6].copy(), b[13:16].copy(), b[6:10].copy(),
                                b[10:13].copy())
@@ -211,28 +213,64 @@ class BuiltinUav:
             self.ground = np.array([position[0], position[1], self.start[2]])
         self._rest(pad, pad_velocity)
 
-    def _advance(self, dt: float, force: np.ndarray, pad: np.ndarray | None, pad_velocity: np.ndarray | None) -> None:
-        if not self.armed:
-            self._ground_z = float(pad[2]) if self._riding else float(self.start[2])
-            self._rest(pad if self._riding else None, pad_velocity if self._riding else None)
-            return
-        over = self._over(pad)
-        self._ground_z = float(pad[2]) if over else float(self.start[2])
-        if self.mode == 'LAND':
-            self.reference[2] = max(self._ground_z - 0.2, self.reference[2] - self.config.land_speed * dt)
-            if self._on_ground():
-                self.armed = False
-                self._touch_down(pad if over else None, pad_velocity if over else None)
+    def _advance(self, n_sub: int, dt: float, force: np.ndarray, before: np.ndarray | None, pad: np.ndarray | None,
+                 pad_velocity: np.ndarray | None) -> None:
+        """``n_sub`` body steps of ``dt``, the pad moving from ``before`` to ``pad``: armed, :func:`_fly`,
+        and at a touch-down in LAND the disarmed rest from there on; at rest, only the last step's
+        pad counts.
+        """
+        first = 0
+        if self.armed:
+            cfg = self.config
+            flown, self._ground_z = _fly(
+                self.body, n_sub, dt, force, _NO_PAD if pad is None else before, _NO_PAD if pad is None else pad,
+                pad is not None, float(self.start[2]), cfg.pad_radius, self.mode == 'LAND', self.reference,
+                cfg.land_speed, cfg.landed_below, cfg.mass, self.inertia, self.inertia_inv, self.rho, self.thrust,
+                self.torque, cfg.gravity)
+            if flown == n_sub:
                 return
-        bodies.body_step(self.body, self.config.mass, self.inertia, self.inertia_inv, self.rho, self.thrust,
-                         self.torque, force, self.config.gravity, dt)
-        if self.body[bodies.BS_POS + 2] < self._ground_z:          # the ground stops the body
-            self.body[bodies.BS_POS + 2] = self._ground_z
-            self.body[bodies.BS_VEL + 2] = max(0.0, self.body[bodies.BS_VEL + 2])
+            at = None if pad is None else before + (pad - before) * ((flown + 1) / n_sub)
+            over = self._over(at)
+            self.armed = False
+            self._touch_down(at if over else None, pad_velocity if over else None)
+            first = flown + 1
+        if first < n_sub:
+            last = None if pad is None else before + (pad - before) * (n_sub / n_sub)
+            self._ground_z = float(last[2]) if self._riding else float(self.start[2])
+            self._rest(last if self._riding else None, pad_velocity if self._riding else None)
 
     def _on_ground(self) -> bool:
         return self.body[bodies.BS_POS + 2] <= self._ground_z + self.config.landed_below
 
-    def _body_state(self) -> UavBodyState:
-        b = self.body
-        return UavBodyState(b[0:3].copy(), b[3:6].copy(), b[6:10].copy(), b[10:13].copy())
+
+_NO_PAD = np.zeros(3)
+
+
+@njit(cache=True)
+def _fly(body, n_sub, dt, force, pad_from, pad_to, use_pad, start_z, pad_radius, land, reference, land_speed,
+         landed_below, mass, inertia, inertia_inv, rho, thrust, torque, gravity):
+    """``n_sub`` steps of ``dt`` of the armed body (``bodies.body_step``) under the held commands and
+    tether force. At each step the ground is the pad (moving linearly from ``pad_from`` to ``pad_to``)
+    within ``pad_radius`` of it horizontally, else level at ``start_z``; it stops the body. In LAND the
+    reference descends at ``land_speed`` to 0.2 m below the ground, and a body within ``landed_below``
+    of the ground has landed. Returns the steps flown (``n_sub``, or the step at which it landed, before
+    that step) and the ground's height at the last step flown or the landing.
+    """
+    ground_z = start_z
+    for i in range(n_sub):
+        ground_z = start_z
+        if use_pad:
+            fraction = (i + 1) / n_sub
+            pad_x = pad_from[0] + (pad_to[0] - pad_from[0]) * fraction
+            pad_y = pad_from[1] + (pad_to[1] - pad_from[1]) * fraction
+            if math.hypot(body[bodies.BS_POS] - pad_x, body[bodies.BS_POS + 1] - pad_y) <= pad_radius:
+                ground_z = pad_from[2] + (pad_to[2] - pad_from[2]) * fraction
+        if land:
+            reference[2] = max(ground_z - 0.2, reference[2] - land_speed * dt)
+            if body[bodies.BS_POS + 2] <= ground_z + landed_below:
+                return i, ground_z
+        bodies.body_step(body, mass, inertia, inertia_inv, rho, thrust, torque, force, gravity, dt)
+        if body[bodies.BS_POS + 2] < ground_z:          # the ground stops the body
+            body[bodies.BS_POS + 2] = ground_z
+            body[bodies.BS_VEL + 2] = max(0.0, body[bodies.BS_VEL + 2])
+    return n_sub, ground_z

@@ -26,11 +26,10 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
+from numba import njit
 
-from tether_dynamics.plant.ends import cross
 from tether_common.rotation import quaternion_rotation
-
-E3 = np.array([0.0, 0.0, 1.0])
+from tether_dynamics.plant import bodies
 
 
 @dataclass(frozen=True)
@@ -65,6 +64,8 @@ class StationController:
         self.inertia = np.asarray(inertia, dtype=float)
         self.gravity = gravity
         self.gains = gains
+        self._gains = np.array([gains.kp, gains.ki, gains.kd, gains.k_r, gains.k_w, math.tan(gains.max_tilt),
+                                gains.max_thrust, gains.integral_limit])
         self.integral = np.zeros(3)
         self._t: float | None = None
 
@@ -76,45 +77,106 @@ class StationController:
         ``reference_velocity`` (m/s, world) the reference's rate of change (a ramp), zero if None;
         ``tether_moment`` (N m, body) the tether's moment about the centre of mass, fed forward.
         """
-        g = self.gains
-        dt = 0.0 if self._t is None else t - self._t
-        self._t = t
-        error = np.asarray(reference, dtype=float) - state.position
-        self.integral = np.clip(self.integral + dt * error, -g.integral_limit, g.integral_limit)
-        velocity_error = (np.zeros(3) if reference_velocity is None else np.asarray(reference_velocity, dtype=float)) \
-            - state.velocity
-        accel = g.kp * error + g.ki * self.integral + g.kd * velocity_error + self.gravity * E3
-        force = self.mass * accel
-        if tether_force is not None:
-            force = force - np.asarray(tether_force, dtype=float)
-        force = self._limit_tilt(force)
-        rotation = quaternion_rotation(state.quaternion, 'the UAV attitude').matrix
-        thrust = min(max(float(force @ rotation[:, 2]), 0.0), g.max_thrust)
-        desired = self._desired_attitude(force, yaw)
-        error_r = 0.5 * _vee(desired.T @ rotation - rotation.T @ desired)    # Lee et al. Eq. (10)
-        omega = np.asarray(state.angular_velocity, dtype=float)
-        torque = -g.k_r * error_r - g.k_w * omega + cross(omega, self.inertia @ omega)   # Eq. (16)
-        if tether_moment is not None:
-            torque = torque - np.asarray(tether_moment, dtype=float)
+        quaternion = quaternion_rotation(state.quaternion, 'the UAV attitude').q
+        body = np.zeros(bodies.BS_SIZE)
+        body[bodies.BS_POS:bodies.BS_POS + 3] = state.position
+        body[bodies.BS_VEL:bodies.BS_VEL + 3] = state.velocity
+        body[bodies.BS_QUAT:bodies.BS_QUAT + 4] = quaternion
+        body[bodies.BS_OMEGA:bodies.BS_OMEGA + 3] = state.angular_velocity
+        moment = _ZERO if tether_moment is None else np.asarray(tether_moment, dtype=float)
+        torque = np.empty(3)
+        thrust = self._step(t, body, reference, yaw, tether_force, reference_velocity, moment, _ZERO, torque)
         return thrust, torque
 
-    def _limit_tilt(self, force: np.ndarray) -> np.ndarray:
-        vertical = max(force[2], 1e-6)
-        horizontal = np.hypot(force[0], force[1])
-        limit = vertical * math.tan(self.gains.max_tilt)
-        if horizontal > limit:
-            force = force.copy()
-            force[:2] *= limit / horizontal
-        return force
+    def step_body(self, t: float, body: np.ndarray, reference: np.ndarray, yaw: float, tether_force: np.ndarray,
+                  reference_velocity: np.ndarray | None, attach_offset: np.ndarray, torque: np.ndarray) -> float:
+        """:meth:`step` on a body state vector (``tether_dynamics.plant.bodies``' layout, a unit
+        quaternion), with the tether's moment about the centre of mass fed forward from where it
+        pulls, ``attach_offset`` (m, body): ``attach_offset x (R^T tether_force)``. Writes the
+        torque (N m, body) into ``torque`` and returns the thrust (N).
+        """
+        return self._step(t, body, reference, yaw, tether_force, reference_velocity, _ZERO, attach_offset, torque)
 
-    @staticmethod
-    def _desired_attitude(force: np.ndarray, yaw: float) -> np.ndarray:
-        b3 = force / math.sqrt(force.dot(force))
-        heading = np.array([math.cos(yaw), math.sin(yaw), 0.0])
-        b2 = cross(b3, heading)
-        b2 /= math.sqrt(b2.dot(b2))
-        return np.column_stack([cross(b2, b3), b2, b3])
+    def _step(self, t, body, reference, yaw, tether_force, reference_velocity, moment, attach_offset, torque) -> float:
+        dt = 0.0 if self._t is None else t - self._t
+        self._t = t
+        return _control(body, np.asarray(reference, dtype=float),
+                        _ZERO if reference_velocity is None else np.asarray(reference_velocity, dtype=float),
+                        float(yaw), _ZERO if tether_force is None else np.asarray(tether_force, dtype=float),
+                        moment, attach_offset, self.integral, dt, self.mass, self.inertia, self.gravity, self._gains,
+                        torque)
 
 
-def _vee(matrix: np.ndarray) -> np.ndarray:
-    return np.array([matrix[2, 1], matrix[0, 2], matrix[1, 0]])
+_ZERO = np.zeros(3)
+"""An absent feed-forward or reference rate: subtracting it changes nothing."""
+
+
+@njit(cache=True)
+def _control(body, reference, reference_velocity, yaw, tether_force, moment, attach_offset, integral, dt, mass,
+             inertia, gravity, gains, torque):
+    """One step of both loops (module docstring; Lee et al. Eq. (10), (15), (16)); the thrust is returned,
+    the torque written to ``torque``, ``integral`` advanced. ``moment``: the tether's moment (body),
+    or, added to it, ``attach_offset x (R^T tether_force)``.
+    """
+    kp, ki, kd, k_r, k_w, tan_tilt, max_thrust, integral_limit = gains
+    q = body[bodies.BS_QUAT:bodies.BS_QUAT + 4]
+    x, y, z, w = q[0], q[1], q[2], q[3]
+    rotation = np.array([[1.0 - 2.0 * (y * y + z * z), 2.0 * (x * y - z * w), 2.0 * (x * z + y * w)],
+                         [2.0 * (x * y + z * w), 1.0 - 2.0 * (x * x + z * z), 2.0 * (y * z - x * w)],
+                         [2.0 * (x * z - y * w), 2.0 * (y * z + x * w), 1.0 - 2.0 * (x * x + y * y)]])
+    force = np.empty(3)
+    for c in range(3):
+        error = reference[c] - body[bodies.BS_POS + c]
+        integral[c] = min(max(integral[c] + dt * error, -integral_limit), integral_limit)
+        accel = kp * error + ki * integral[c] + kd * (reference_velocity[c] - body[bodies.BS_VEL + c])
+        if c == 2:
+            accel += gravity
+        force[c] = mass * accel - tether_force[c]
+    vertical = max(force[2], 1e-6)
+    horizontal = math.hypot(force[0], force[1])
+    limit = vertical * tan_tilt
+    if horizontal > limit:
+        force[0] *= limit / horizontal
+        force[1] *= limit / horizontal
+    thrust = min(max(force[0] * rotation[0, 2] + force[1] * rotation[1, 2] + force[2] * rotation[2, 2], 0.0),
+                 max_thrust)
+    norm = math.sqrt(force[0] * force[0] + force[1] * force[1] + force[2] * force[2])
+    b3 = force / norm
+    b2 = _cross(b3, np.array([math.cos(yaw), math.sin(yaw), 0.0]))
+    b2 /= math.sqrt(b2[0] * b2[0] + b2[1] * b2[1] + b2[2] * b2[2])
+    b1 = _cross(b2, b3)
+    desired = np.empty((3, 3))
+    for r in range(3):
+        desired[r, 0], desired[r, 1], desired[r, 2] = b1[r], b2[r], b3[r]
+    error_r = np.array([0.5 * _skew_part(desired, rotation, 2, 1), 0.5 * _skew_part(desired, rotation, 0, 2),
+                        0.5 * _skew_part(desired, rotation, 1, 0)])
+    omega = body[bodies.BS_OMEGA:bodies.BS_OMEGA + 3]
+    gyro = _cross(omega, _times(inertia, omega, False))
+    pull = _cross(attach_offset, _times(rotation, tether_force, True))
+    for c in range(3):
+        torque[c] = -k_r * error_r[c] - k_w * omega[c] + gyro[c] - moment[c] - pull[c]
+    return thrust
+
+
+@njit(cache=True)
+def _cross(a, b):
+    return np.array([a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]])
+
+
+@njit(cache=True)
+def _times(matrix, vector, transposed):
+    """``matrix @ vector``, or ``matrix.T @ vector``, of a 3x3 matrix."""
+    out = np.zeros(3)
+    for r in range(3):
+        for c in range(3):
+            out[r] += (matrix[c, r] if transposed else matrix[r, c]) * vector[c]
+    return out
+
+
+@njit(cache=True)
+def _skew_part(desired, rotation, i, j):
+    """Element (i, j) of ``desired.T @ rotation - rotation.T @ desired`` (Lee et al. Eq. (10) before the vee)."""
+    total = 0.0
+    for k in range(3):
+        total += desired[k, i] * rotation[k, j] - rotation[k, i] * desired[k, j]
+    return total
