@@ -31,6 +31,10 @@ from relpos_estimator.imu import specific_force
 from tether_common.rotation import matrix_to_quaternion
 
 
+_LEVEL = np.eye(3)
+"""The UAV IMU's attitude: level (module docstring)."""
+
+
 @dataclass
 class Truth:
     """Ground truth at one tick (SI, ``world`` ENU unless said otherwise)."""
@@ -109,7 +113,7 @@ class SensorSuite:
         gyro, accel = self.reel_imu.measure(truth.reel_angular_velocity, reel_force)
         reel = ImuSample(t, matrix_to_quaternion(truth.reel_rotation), gyro, accel)
         uav_acceleration = truth.reel_acceleration + truth.relative_acceleration
-        gyro, accel = self.uav_imu.measure(np.zeros(3), specific_force(np.eye(3), uav_acceleration))
+        gyro, accel = self.uav_imu.measure(np.zeros(3), specific_force(_LEVEL, uav_acceleration))
         uav = ImuSample(t, np.array([0.0, 0.0, 0.0, 1.0]), gyro, accel)
         u = self.fault_rng.random(2)
         for name, sample, draw in (('imu_reel', reel, u[0]), ('imu_uav', uav, u[1])):

@@ -24,6 +24,7 @@ import numpy as np
 from numba import njit
 
 from tether_dynamics.plant.bodies import RP_RADIUS, RS_LENGTH, RS_RATE, body_attach, body_step, reel_step
+from tether_dynamics.plant.energies import tether_energies
 
 METHOD_ALE, METHOD_LAST, METHOD_UNIFORM, METHOD_INSERT = range(4)
 METHODS = {'ale': METHOD_ALE, 'last_element': METHOD_LAST, 'uniform': METHOD_UNIFORM, 'insert': METHOD_INSERT}
@@ -848,3 +849,57 @@ def lowest_point(x, n, order, out):
             if low < out[2]:
                 for c in range(3):
                     out[c] = wa * x[j, c] + wm * x[j + 1, c] + wb * x[j + 2, c]
+
+
+# The scalars of :func:`report`: tensions at the guide way and at the UAV (N), departure and
+# arrival angles (rad), kinetic, potential and strain energy (J), the largest tension between
+# nodes (N), and the deployed rest length (m, with what a merge still owes the reel element).
+(RV_T_REEL, RV_T_UAV, RV_ALPHA, RV_BETA, RV_KINETIC, RV_POTENTIAL, RV_STRAIN, RV_MAX_TENSION,
+ RV_REST) = range(9)
+RV_SIZE = 9
+
+
+@njit(cache=True)
+def report(x, v, rest, n, fp, order, kv_on, feed, nodes, velocities, arc, lumps, seg, force_reel, force_uav,
+           lowest, values):
+    """Everything the plant reports after a step, in one call: the nodes' positions, velocities,
+    unstretched arc lengths (what a merge still owes the reel element added past the guide way)
+    and lumped masses into ``nodes``, ``velocities``, ``arc``, ``lumps`` (n rows); the tensions
+    between nodes and the forces on both ends (:func:`end_state`); the lowest point
+    (:func:`lowest_point`); the scalars into ``values`` (the ``RV_`` slots; the angles are the
+    end tangents' elevations, Sec. 3.1's departure and arrival angles; the energies
+    :func:`~tether_dynamics.plant.energies.tether_energies`).
+    """
+    mu, g, owed = fp[FP_MU], fp[FP_G], fp[FP_OWED]
+    elements = (n - 1) // order
+    rest_total = 0.0
+    for e in range(elements):
+        rest_total += rest[e]
+    node_arc(rest[:elements], order, arc)
+    for i in range(n):
+        if i > 0:
+            arc[i] += owed
+        lumps[i] = lump(rest, n, order, mu, i)
+        for c in range(3):
+            nodes[i, c] = x[i, c]
+            velocities[i, c] = v[i, c]
+    t_exit, t_end = end_state(x, v, rest, n, fp, order, kv_on, feed, seg, force_reel, force_uav)
+    lowest_point(x, n, order, lowest)
+    e_a, e_b = np.empty(3), np.empty(3)
+    for c in range(3):
+        if order == 1:
+            e_a[c] = x[1, c] - x[0, c]
+            e_b[c] = x[n - 1, c] - x[n - 2, c]
+        else:
+            e_a[c] = -3.0 * x[0, c] + 4.0 * x[1, c] - x[2, c]
+            e_b[c] = x[n - 3, c] - 4.0 * x[n - 2, c] + 3.0 * x[n - 1, c]
+    largest = seg[0]
+    for k in range(1, n - 1):
+        largest = max(largest, seg[k])
+    values[RV_T_REEL], values[RV_T_UAV] = t_exit, t_end
+    values[RV_ALPHA] = np.arctan2(e_a[2], np.hypot(e_a[0], e_a[1]))
+    values[RV_BETA] = np.arctan2(e_b[2], np.hypot(e_b[0], e_b[1]))
+    values[RV_KINETIC], values[RV_POTENTIAL], values[RV_STRAIN] = tether_energies(
+        nodes, velocities, lumps, seg, arc, g, fp[FP_EA])
+    values[RV_MAX_TENSION] = largest
+    values[RV_REST] = rest_total + owed

@@ -350,65 +350,32 @@ class FemTether:
         """Nodes in use."""
         return int(self.st[fk.ST_NODES])
 
-    def nodes(self) -> np.ndarray:
-        """(n, 3) node positions from the guide way to the UAV, m."""
-        return self.x[:self.n].copy()
-
-    def velocities(self) -> np.ndarray:
-        """(n, 3) node velocities, m/s (node 0: the guide way's)."""
-        return self.v[:self.n].copy()
-
     @property
     def elements(self) -> int:
         """Elements in use."""
         return (self.n - 1) // self.order
 
-    def lumps(self) -> np.ndarray:
-        """(n,) lumped node masses, kg (:func:`fem_kernels.lump`)."""
-        return _lumps(self.rest[:self.elements], self.order, self.config.mass_per_length)
-
-    def end_state(self) -> tuple[np.ndarray, np.ndarray, np.ndarray, float, float]:
-        """Tensions between consecutive nodes (n - 1,), N; forces of the tether on the guide way
-        and on the UAV (3,), N; tensions at the guide way and at the UAV, N
-        (:func:`fem_kernels.end_state`; Kelvin-Voigt included when on).
+    def report(self) -> tuple[np.ndarray, ...]:
+        """What the plant reports after a step (:func:`fem_kernels.report`): (n, 3) node positions
+        from the guide way to the UAV (m) and velocities (m/s; node 0: the guide way's), (n,)
+        unstretched arc lengths from the guide way (m, with what a merge still owes the reel element)
+        and lumped masses (kg), (n - 1,) tensions between consecutive nodes (N), the tether's forces
+        on the guide way and on the UAV (N), its lowest point (m), and the ``fem_kernels.RV_``
+        scalars (Kelvin-Voigt included when on).
         """
-        seg, reel, uav = np.zeros(self.n - 1), np.empty(3), np.empty(3)
+        n = self.n
+        nodes, velocities, arc, lumps = np.empty((n, 3)), np.empty((n, 3)), np.empty(n), np.empty(n)
+        seg, reel, uav, lowest, values = np.zeros(n - 1), np.empty(3), np.empty(3), np.empty(3), np.empty(fk.RV_SIZE)
         feed = float(self.fp[fk.FP_PAYOUT]) if self.config.reshape == 'ale' else 0.0
-        t_a, t_b = fk.end_state(self.x, self.v, self.rest, self.n, self.fp, self.order, bool(self.st[fk.ST_KV]),
-                                feed, seg, reel, uav)
-        return seg, reel, uav, float(t_a), float(t_b)
-
-    def end_tangents(self) -> tuple[np.ndarray, np.ndarray]:
-        """The tether's tangents at the guide way and at the UAV, pointing from the reel
-        towards the UAV (not normalised).
-        """
-        x, n = self.x, self.n
-        if self.order == 1:
-            return x[1] - x[0], x[n - 1] - x[n - 2]
-        return -3.0 * x[0] + 4.0 * x[1] - x[2], x[n - 3] - 4.0 * x[n - 2] + 3.0 * x[n - 1]
-
-    def arc_length(self) -> np.ndarray:
-        """(n,) unstretched distance of each node from the guide way along the deployed
-        tether, m (including what a merge still owes the reel element).
-        """
-        arc = self._node_arc(self.rest[:self.elements])
-        arc[1:] += float(self.fp[fk.FP_OWED])
-        return arc
+        fk.report(self.x, self.v, self.rest, n, self.fp, self.order, bool(self.st[fk.ST_KV]), feed, nodes, velocities,
+                  arc, lumps, seg, reel, uav, lowest, values)
+        return nodes, velocities, arc, lumps, seg, reel, uav, lowest, values
 
     def deployed_rest_length(self) -> float:
         """Deployed tether mass over mu, m: the elements' rest lengths plus what a merge still
         owes the reel element (material at the guide way, fed back within a second).
         """
         return float(np.sum(self.rest[:self.elements])) + float(self.fp[fk.FP_OWED])
-
-    def lowest_point(self) -> np.ndarray:
-        """The lowest point of the tether, m: the lowest node of linear elements; on quadratic
-        elements the lowest point of each element's parabola (Eq. 8.23), where it lies inside
-        (:func:`fem_kernels.lowest_point`).
-        """
-        out = np.empty(3)
-        fk.lowest_point(self.x, self.n, self.order, out)
-        return out
 
     def energy(self) -> float:
         """Mechanical energy the balance counts (:func:`fem_kernels.energy`), J."""

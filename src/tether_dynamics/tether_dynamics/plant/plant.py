@@ -9,7 +9,9 @@ import numpy as np
 
 from tether_common.rotation import quaternion_rotation
 from tether_dynamics.plant import bodies, quasi_static
+from tether_dynamics.plant import fem_kernels as fk
 from tether_dynamics.plant.config import PlantConfig
+from tether_dynamics.plant.energies import tether_energies
 from tether_dynamics.plant.ends import Sample, cross, hermite, hermite_table, point_on_body
 from tether_dynamics.plant.io import PlantInputs, PlantOutputs
 
@@ -190,24 +192,20 @@ class TetherPlant:
             f_uav = -t_b * shape.tangent_b()
             alpha, beta = float(sol.alpha), float(sol.beta)
             lowest = shape.lowest_point(a)
-            element_rest = np.diff(arc)
+            half = 0.5 * mu * np.diff(arc)
+            lumps = np.zeros(n)
+            lumps[:-1] += half
+            lumps[1:] += half
+            kinetic, potential, strain = tether_energies(nodes, vel, lumps, tensions, arc, g, cfg.ea)
+            max_tension = float(np.max(tensions))
+            deployed_rest = length
         else:
-            fem = self._fem
-            nodes, vel, arc = fem.nodes(), fem.velocities(), fem.arc_length()
-            tensions, f_reel, f_uav, t_a, t_b = fem.end_state()
-            e_a, e_b = fem.end_tangents()
-            alpha = math.atan2(e_a[2], math.hypot(e_a[0], e_a[1]))
-            beta = math.atan2(e_b[2], math.hypot(e_b[0], e_b[1]))
-            lowest = fem.lowest_point()
-        if self._fem is None:
-            lumps = np.zeros(len(nodes))
-            lumps[:-1] += 0.5 * mu * element_rest
-            lumps[1:] += 0.5 * mu * element_rest
-        else:
-            lumps = self._fem.lumps()
-        kinetic = 0.5 * float((lumps * (vel * vel).sum(axis=1)).sum())
-        potential = g * float((lumps * nodes[:, 2]).sum())
-        strain = float((tensions**2 * (arc[1:] - arc[:-1]) / (2.0 * cfg.ea)).sum())
+            nodes, vel, arc, _, tensions, f_reel, f_uav, lowest, values = self._fem.report()
+            t_a, t_b = float(values[fk.RV_T_REEL]), float(values[fk.RV_T_UAV])
+            alpha, beta = float(values[fk.RV_ALPHA]), float(values[fk.RV_BETA])
+            kinetic, potential = float(values[fk.RV_KINETIC]), float(values[fk.RV_POTENTIAL])
+            strain, max_tension = float(values[fk.RV_STRAIN]), float(values[fk.RV_MAX_TENSION])
+            deployed_rest = float(values[fk.RV_REST])
         moment = cross(end - upos, f_uav)
         sea = float(inputs.sea_surface_height)
         return PlantOutputs(
@@ -222,17 +220,19 @@ class TetherPlant:
             clearance_deck=float(lowest[2] - deck), clearance_sea=float(lowest[2] - sea),
             fouling=bool(lowest[2] <= sea), kinetic_energy=kinetic, potential_energy=potential,
             strain_energy=strain, reel_work=float(self._rs[bodies.RS_WORK]),
-            total_tether_mass=self.total_tether_mass(), nodes=nodes, velocities=vel, tensions=tensions,
-            arc_length=arc, max_strain=float(np.max(tensions)) / cfg.ea, uav_position=upos, uav_velocity=uvel,
+            total_tether_mass=self._tether_mass(deployed_rest), nodes=nodes, velocities=vel, tensions=tensions,
+            arc_length=arc, max_strain=max_tension / cfg.ea, uav_position=upos, uav_velocity=uvel,
             uav_acceleration=uacc, uav_quaternion=uquat, uav_angular_velocity=uom)
 
     def total_tether_mass(self) -> float:
         """Drum + deployed tether mass, kg: mu (total - L) + sum of the elements' rest masses."""
+        return self._tether_mass(self._fem.deployed_rest_length() if self._fem is not None
+                                 else float(self._rs[bodies.RS_LENGTH]))
+
+    def _tether_mass(self, deployed_rest: float) -> float:
+        """mu (total - L) on the drum + mu ``deployed_rest`` deployed, kg."""
         mu = self.config.mass_per_length
-        drum = mu * (self.config.reel.total_length - float(self._rs[bodies.RS_LENGTH]))
-        deployed = mu * (self._fem.deployed_rest_length() if self._fem is not None
-                         else float(self._rs[bodies.RS_LENGTH]))
-        return drum + deployed
+        return mu * (self.config.reel.total_length - float(self._rs[bodies.RS_LENGTH])) + mu * deployed_rest
 
 
 def warm_up(config: PlantConfig) -> None:
