@@ -219,6 +219,10 @@ class BuiltinUav:
         and at a touch-down in LAND the disarmed rest from there on; at rest, only the last step's
         pad counts.
         """
+        def pad_at(step: int) -> np.ndarray | None:
+            """The pad at the end of body step ``step`` (from 0), as :func:`_fly` moves it."""
+            return None if pad is None else before + (pad - before) * ((step + 1) / n_sub)
+
         first = 0
         if self.armed:
             cfg = self.config
@@ -229,13 +233,13 @@ class BuiltinUav:
                 self.torque, cfg.gravity)
             if flown == n_sub:
                 return
-            at = None if pad is None else before + (pad - before) * ((flown + 1) / n_sub)
+            at = pad_at(flown)
             over = self._over(at)
             self.armed = False
             self._touch_down(at if over else None, pad_velocity if over else None)
             first = flown + 1
         if first < n_sub:
-            last = None if pad is None else before + (pad - before) * (n_sub / n_sub)
+            last = pad_at(n_sub - 1)
             self._ground_z = float(last[2]) if self._riding else float(self.start[2])
             self._rest(last if self._riding else None, pad_velocity if self._riding else None)
 
