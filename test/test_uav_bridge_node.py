@@ -15,7 +15,11 @@ rclpy = pytest.importorskip('rclpy')
 
 from geometry_msgs.msg import PoseStamped  # noqa: E402
 from geometry_msgs.msg import TwistStamped  # noqa: E402
+from rcl_interfaces.msg import Log  # noqa: E402
 from rclpy.executors import SingleThreadedExecutor  # noqa: E402
+from rclpy.qos import DurabilityPolicy  # noqa: E402
+from rclpy.qos import QoSProfile  # noqa: E402
+from rclpy.qos import ReliabilityPolicy  # noqa: E402
 from sensor_msgs.msg import Imu  # noqa: E402
 from sensor_msgs.msg import NavSatFix  # noqa: E402
 from std_srvs.srv import SetBool  # noqa: E402
@@ -40,17 +44,31 @@ def _start_bridge(*params, domain):
                             stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
 
 
+SERVICES = {'/uav/set_mode': SetMode, '/uav/arm': SetBool, '/uav/takeoff': Takeoff, '/uav/land': Trigger}
+ROSOUT = QoSProfile(depth=1000, reliability=ReliabilityPolicy.RELIABLE, durability=DurabilityPolicy.TRANSIENT_LOCAL)
+
+
 class Probe:
-    """A node recording the bridge's topics and calling its services, spun in a thread."""
+    """A node recording the bridge's topics and calling its services, spun in a thread.
+
+    Its service clients are made first, before any of its readers. ``service_is_ready`` says only that a client has
+    matched the server; the answer goes out only once the server has matched the client's response reader too
+    (Fast DDS waits 100 ms for that, then logs 'failed to send response (timeout)' and drops it). A participant
+    announces its readers in order, so a message from the server's node on a reader made after the clients (its log
+    on /rosout, or /uav/state, which the UAV node offering the services publishes) shows that the server has matched
+    their response readers: :meth:`call` waits for one.
+    """
 
     def __init__(self) -> None:
         self.node = rclpy.create_node('bridge_probe')
-        self.got = {name: [] for name in ('state', 'pose', 'twist', 'imu', 'global')}
+        self.clients = {name: self.node.create_client(kind, name) for name, kind in SERVICES.items()}
+        self.got = {name: [] for name in ('state', 'pose', 'twist', 'imu', 'global', 'log')}
         for name, kind, topic, qos in [('state', UavState, '/uav/state', LATCHED),
                                        ('pose', PoseStamped, '/uav/pose', SENSOR),
                                        ('twist', TwistStamped, '/uav/twist', SENSOR),
                                        ('imu', Imu, '/uav/imu', SENSOR),
-                                       ('global', NavSatFix, '/uav/global', SENSOR)]:
+                                       ('global', NavSatFix, '/uav/global', SENSOR),
+                                       ('log', Log, '/rosout', ROSOUT)]:
             self.node.create_subscription(kind, topic, self.got[name].append, qos)
         self.setpoint = self.node.create_publisher(PoseStamped, '/uav/setpoint', COMMAND)
         self.executor = SingleThreadedExecutor()
@@ -58,12 +76,23 @@ class Probe:
         self.thread = threading.Thread(target=self.executor.spin, daemon=True)
         self.thread.start()
 
-    def call(self, kind, name, request, timeout=60.0):
-        client = self.node.create_client(kind, name)
-        wait_until(lambda: client.service_is_ready(), what=f'service {name}')
+    def call(self, name, request, timeout=60.0):
+        """The service's answer, asked once the server has matched this probe's clients (see the class)."""
+        client = self.clients[name]
+        wait_until(client.service_is_ready, what=f'service {name}')
+        wait_until(lambda: self._servers(name), what=f'the node offering {name}')
+        servers = self._servers(name)
+        wait_until(lambda: self.got['state'] or any(log.name in servers for log in self.got['log']),
+                   what=f'a message from {servers[0]}, the server of {name}')
         future = client.call_async(request)
         wait_until(future.done, timeout=timeout, what=f'answer of {name}')
         return future.result()
+
+    def _servers(self, service):
+        """The names of the nodes offering ``service``, as this probe's graph knows them so far."""
+        return [name for name, namespace in self.node.get_node_names_and_namespaces()
+                if any(offered == service for offered, _ in
+                       self.node.get_service_names_and_types_by_node(name, namespace))]
 
     def state(self):
         return self.got['state'][-1] if self.got['state'] else None
@@ -103,10 +132,10 @@ def test_bridge_node_flies_the_double(ros_domain):
         z0 = probe.got['pose'][-1].pose.position.z
         assert z0 == pytest.approx(ORIGIN[2], abs=1e-6)
         wait_until(lambda: peer.sim_time() > peer.rc_mode_switch, what='the RC mode switch')
-        assert probe.call(SetMode, '/uav/set_mode', SetMode.Request(mode='GUIDED')).success
-        arm = probe.call(SetBool, '/uav/arm', SetBool.Request(data=True))
+        assert probe.call('/uav/set_mode', SetMode.Request(mode='GUIDED')).success
+        arm = probe.call('/uav/arm', SetBool.Request(data=True))
         assert arm.success, arm.message
-        takeoff = probe.call(Takeoff, '/uav/takeoff', Takeoff.Request(altitude=10.0))
+        takeoff = probe.call('/uav/takeoff', Takeoff.Request(altitude=10.0))
         assert takeoff.success, takeoff.message
         wait_until(lambda: probe.got['pose'][-1].pose.position.z > ORIGIN[2] + 9.9, what='10 m up')
         assert probe.state().ready and probe.state().armed and probe.state().mode == 'GUIDED'
@@ -123,7 +152,7 @@ def test_bridge_node_flies_the_double(ros_domain):
         assert (p.x, p.y) == pytest.approx((setpoint.pose.position.x, setpoint.pose.position.y), abs=0.05)
         assert peer.snapshot()['position'] == pytest.approx([10.0, 5.0, -15.0], abs=0.05)   # NED at the double
         wait_until(lambda: abs(peer.attitude[2] - math.pi / 2) < 0.01, what='the heading')
-        land = probe.call(Trigger, '/uav/land', Trigger.Request())
+        land = probe.call('/uav/land', Trigger.Request())
         assert land.success, land.message
         wait_until(lambda: not probe.state().armed, timeout=60, what='landed and disarmed')
         # a late subscriber gets the latest state at once (transient local)
@@ -131,7 +160,7 @@ def test_bridge_node_flies_the_double(ros_domain):
         probe.node.create_subscription(UavState, '/uav/state', late.append, LATCHED)
         wait_until(lambda: late, what='the latched state')
         assert late[0].mode == 'LAND'
-        refused = probe.call(SetMode, '/uav/set_mode', SetMode.Request(mode='NOSUCHMODE'))
+        refused = probe.call('/uav/set_mode', SetMode.Request(mode='NOSUCHMODE'))
         assert not refused.success and 'unknown mode' in refused.message
     finally:
         probe.close()
@@ -168,7 +197,7 @@ def test_commanded_by_the_mission_the_services_refuse_at_once(ros_domain):
                             domain=ros_domain)
     probe = Probe()
     try:
-        answer = probe.call(SetBool, '/uav/arm', SetBool.Request(data=True), timeout=30.0)
+        answer = probe.call('/uav/arm', SetBool.Request(data=True), timeout=30.0)
     finally:
         probe.close()
         process.send_signal(signal.SIGINT)

@@ -145,8 +145,8 @@ def test_by_hand_the_services_and_the_setpoint_topic_fly_it(ros_domain):  # noqa
     probe = Probe()
     publish_clock_wrench_and_reel(probe, WrenchStamped(), ReelState(), ['builtin_uav'])
     try:
-        assert probe.call(SetBool, '/uav/arm', SetBool.Request(data=True)).success
-        assert probe.call(Takeoff, '/uav/takeoff', Takeoff.Request(altitude=2.0)).success
+        assert probe.call('/uav/arm', SetBool.Request(data=True)).success
+        assert probe.call('/uav/takeoff', Takeoff.Request(altitude=2.0)).success
         wait_until(lambda: probe.state() is not None and probe.state().armed and probe.got['pose']
                    and probe.got['pose'][-1].pose.position.z > 2.0, timeout=60, what='the climb')
         target = PoseStamped()
@@ -154,7 +154,7 @@ def test_by_hand_the_services_and_the_setpoint_topic_fly_it(ros_domain):  # noqa
         target.pose.position.x, target.pose.position.z = 1.0, 2.3
         probe.setpoint.publish(target)
         wait_until(lambda: abs(probe.got['pose'][-1].pose.position.x - 1.0) < 0.05, timeout=60, what='the setpoint')
-        assert probe.call(Trigger, '/uav/land', Trigger.Request()).success
+        assert probe.call('/uav/land', Trigger.Request()).success
         wait_until(lambda: not probe.state().armed, timeout=60, what='landed and disarmed')
         assert probe.state().mode == 'LAND' and probe.state().command_sequence == 0
         assert probe.got['pose'][-1].pose.position.z == pytest.approx(0.3)
