@@ -161,8 +161,8 @@ def _strain_points(rest: np.ndarray, order: int) -> tuple[np.ndarray, np.ndarray
     return idx, coef, 0.5 * rest[e]
 
 
-def _lumps(rest: np.ndarray, order: int, mu: float) -> np.ndarray:
-    """Lumped node masses, kg (:func:`fem_kernels.lump`)."""
+def lumped_masses(rest: np.ndarray, order: int, mu: float) -> np.ndarray:
+    """Lumped node masses (kg) of elements of ``order`` with rest lengths ``rest`` (:func:`fem_kernels.lump`)."""
     out = np.zeros(order * rest.size + 1)
     share = mu * rest / (2.0 if order == 1 else 6.0)
     out[:-1:order] += share
@@ -183,7 +183,7 @@ def _discrete_equilibrium(x: np.ndarray, rest: np.ndarray, order: int, ea: float
     if n < 3:
         return x
     idx, coef, weight = _strain_points(rest, order)
-    lumps = _lumps(rest, order, mu)
+    lumps = lumped_masses(rest, order, mu)
 
     def energy(xx: np.ndarray) -> float:
         lam = np.linalg.norm(np.einsum('pk,pkc->pc', coef, xx[idx]), axis=1)

@@ -12,6 +12,7 @@ from tether_dynamics.plant import bodies, quasi_static
 from tether_dynamics.plant import fem_kernels as fk
 from tether_dynamics.plant.config import PlantConfig
 from tether_dynamics.plant.energies import tether_energies
+from tether_dynamics.plant.fem_reel import FemTether, lumped_masses
 from tether_dynamics.plant.ends import Sample, cross, hermite, hermite_table, point_on_body
 from tether_dynamics.plant.io import PlantInputs, PlantOutputs
 
@@ -57,11 +58,7 @@ class TetherPlant:
         self._torque = np.zeros(3)
         self._uav_rotation = quaternion_rotation(np.array([0.0, 0.0, 0.0, 1.0]), 'uav_quaternion')
         self._nodes_prev: np.ndarray | None = None
-        self._fem = None
-        if cfg.fidelity != 'quasi_static':
-            from tether_dynamics.plant.fem_reel import FemTether  # noqa: PLC0415 - loads compiled kernels
-
-            self._fem = FemTether(cfg)
+        self._fem = FemTether(cfg) if cfg.fidelity != 'quasi_static' else None
 
     # ----------------------------------------------------------------- inputs
     def _samples(self, t: float, inputs: PlantInputs) -> tuple[Sample, Sample | None, float]:
@@ -192,10 +189,7 @@ class TetherPlant:
             f_uav = -t_b * shape.tangent_b()
             alpha, beta = float(sol.alpha), float(sol.beta)
             lowest = shape.lowest_point(a)
-            half = 0.5 * mu * np.diff(arc)
-            lumps = np.zeros(n)
-            lumps[:-1] += half
-            lumps[1:] += half
+            lumps = lumped_masses(np.diff(arc), 1, mu)
             kinetic, potential, strain = tether_energies(nodes, vel, lumps, tensions, arc, g, cfg.ea)
             max_tension = float(np.max(tensions))
             deployed_rest = length
