@@ -10,7 +10,7 @@ setup(
     data_files=[
         ('share/ament_index/resource_index/packages', ['resource/' + package_name]),
         ('share/' + package_name, ['package.xml']),
-        ('share/' + package_name + '/config', ['config/estimator_tuned.yaml']),
+        ('share/' + package_name + '/config', ['config/estimator_tuned.yaml', 'config/estimator_flight.yaml']),
     ],
     install_requires=['setuptools'],
     zip_safe=False,  # py.typed: type checkers read the installed sources (PEP 561)

@@ -4,6 +4,8 @@ Subcommands:
     evaluate   run the estimator over recorded sensor topics; Table 6.1 figures and per-fault counts
                (``--replay``: the estimator node runs behind ``tethersim replay`` of each recording)
     tune       Algorithm 1 (Sec. 5.2) on recordings; writes the tuned covariances as a parameter file
+    measure    Q and R measured from recordings' sensors against their truth (relpos_estimator.noise);
+               writes them as a parameter file
 """
 
 from __future__ import annotations
@@ -26,6 +28,7 @@ from relpos_estimator.estimator_params import PARAMETERS  # noqa: E402
 from relpos_estimator.estimator_params import configs  # noqa: E402
 from relpos_estimator.estimator_params import tuned_file  # noqa: E402
 from relpos_estimator.kalman import Covariances  # noqa: E402
+from relpos_estimator.noise import measured_covariances  # noqa: E402
 from relpos_estimator.recorded import Recording  # noqa: E402
 from relpos_estimator.recorded import read_outputs  # noqa: E402
 from relpos_estimator.recorded import read_recording  # noqa: E402
@@ -213,6 +216,24 @@ def cmd_tune(args: argparse.Namespace) -> str:
     return '\n'.join(lines)
 
 
+def cmd_measure(args: argparse.Namespace) -> str:
+    """Measure Q and R on the recordings (relpos_estimator.noise); write them as a parameter file."""
+    recs = _recordings(args.bags)
+    measured = measured_covariances(recs)
+    names = Covariances.names()
+    source = 'tethersim estimator measure ' + ' '.join(Path(b).name for b in args.bags)
+    document = {'/**': {'ros__parameters': {n: float(getattr(measured, n)) for n in names}}}
+    path = args.out / 'measured.yaml'
+    path.write_text(f'# Q and R measured by {source} (relpos_estimator.noise)\n'
+                    + yaml.safe_dump(document, sort_keys=False), encoding='utf-8')
+    thesis = Covariances()
+    lines = [f'Q and R measured on {len(recs)} recording(s) (sensors against the recorded truth)',
+             f'{"parameter":12s} {"measured":>12s} {"thesis Sec. 6.2":>16s}']
+    lines += [f'{n:12s} {getattr(measured, n):12.4g} {getattr(thesis, n):16.4g}' for n in names]
+    lines.append(f'parameter file: {path} (tethersim estimator evaluate --params {path} BAG...)')
+    return '\n'.join(lines)
+
+
 def _arguments(parser: argparse.ArgumentParser) -> None:
     """Add the subcommands of ``tethersim estimator`` to its parser."""
     commands = parser.add_subparsers(dest='command', required=True, parser_class=OneLineParser)
@@ -234,6 +255,11 @@ def _arguments(parser: argparse.ArgumentParser) -> None:
     tune.add_argument('--max-rounds', type=positive(int), default=30, help='stop after this many rounds')
     tune.add_argument('--out', type=Path, default=Path('runs/estimator-tune'), help='output directory')
     tune.set_defaults(func=cmd_tune)
+    measure = commands.add_parser('measure', help='measure Q and R from recorded sensors against the truth')
+    measure.add_argument('bags', nargs='+', help='bag files, bag directories or run directories')
+    measure.add_argument('--out', type=Path, default=Path('runs/estimator-measure'),
+                         help='output directory (the parameter file is measured.yaml in it)')
+    measure.set_defaults(func=cmd_measure)
 
 
 COMMAND = Command('relative-altitude estimator: Twiddle tuning, replay evaluation (thesis Sec. 5.2, 6.2)',

@@ -5,8 +5,12 @@ The covariances are the diagonal entries of Q and R (see :mod:`relpos_estimator.
 defaults are the thesis's tuned values (Sec. 6.2); ``covariances: tuned`` takes them from
 the package's ``share/relpos_estimator/config/estimator_tuned.yaml``, written by
 ``tethersim estimator tune`` on the UAV-surrogate reference bags (HPR #1, #2, heave-only;
-bags/README.md). The tuned values trust the accelerometers more; they were tuned with the
-UAV held still, so the flight scenes keep the thesis's.
+bags/README.md); ``covariances: flight`` from ``config/estimator_flight.yaml``, measured by
+``tethersim estimator measure`` on flight recordings (:mod:`relpos_estimator.noise`). The
+tuned values were tuned with the UAV surrogate held still: they let the second channel's bias
+absorb the accelerations of a flying UAV; the thesis's weigh the accelerometers so little
+that a flying estimate is a dGPS extrapolation between fixes. The flight scenes use the
+measured ones.
 """
 
 from __future__ import annotations
@@ -21,15 +25,15 @@ from relpos_estimator.kalman import Covariances
 from tether_common.parameters import ParamSpec
 
 
-def tuned_file() -> Path:
-    """The installed tuned parameter file of the estimator."""
-    return Path(get_package_share_directory('relpos_estimator')) / 'config' / 'estimator_tuned.yaml'
+def tuned_file(name: str = 'tuned') -> Path:
+    """The installed parameter file ``config/estimator_<name>.yaml`` of the estimator (tuned or flight)."""
+    return Path(get_package_share_directory('relpos_estimator')) / 'config' / f'estimator_{name}.yaml'
 
 
-def tuned_covariances() -> Covariances:
+def tuned_covariances(name: str = 'tuned') -> Covariances:
     """The covariances of :func:`tuned_file`."""
-    section = yaml.safe_load(tuned_file().read_text(encoding='utf-8'))['/**']['ros__parameters']
-    return Covariances(**{name: float(section[name]) for name in Covariances.names()})
+    section = yaml.safe_load(tuned_file(name).read_text(encoding='utf-8'))['/**']['ros__parameters']
+    return Covariances(**{field: float(section[field]) for field in Covariances.names()})
 
 
 _C = Covariances()
@@ -49,9 +53,10 @@ PARAMETERS: tuple[ParamSpec, ...] = (
     ParamSpec('fix_hold', _L.fix_hold, 'a fix is considered this long after its arrival stamp (so that it has '
               'reached the node whatever the load; it is fused at its time of fix)', 's', low=0.0, high=1.0,
               read_only=True),
-    ParamSpec('covariances', 'parameters', 'where Q and R come from: parameters (the sigma_* parameters) or tuned '
-              '(config/estimator_tuned.yaml, written by tethersim estimator tune; the sigma_* are then ignored)',
-              choices=('parameters', 'tuned'), read_only=True),
+    ParamSpec('covariances', 'parameters', 'where Q and R come from: parameters (the sigma_* parameters), tuned '
+              '(config/estimator_tuned.yaml, written by tethersim estimator tune on the surrogate bags) or flight '
+              '(config/estimator_flight.yaml, written by tethersim estimator measure on flight recordings); with '
+              'tuned or flight the sigma_* are ignored', choices=('parameters', 'tuned', 'flight'), read_only=True),
     *(ParamSpec(name, float(getattr(_C, name)), f'{name}: diagonal entry of Q or R (Eq. 4.7, 4.9), tuned value '
                 'of Sec. 6.2 by default', _UNITS[name], low=1e-30, high=1e12, read_only=True)
       for name in Covariances.names()),
@@ -78,7 +83,7 @@ PARAMETERS: tuple[ParamSpec, ...] = (
 
 def configs(params: dict) -> tuple[Covariances, LogicConfig]:
     """Covariances and message-logic settings of a parameter set."""
-    cov = (tuned_covariances() if params['covariances'] == 'tuned'
+    cov = (tuned_covariances(params['covariances']) if params['covariances'] in ('tuned', 'flight')
            else Covariances(**{name: params[name] for name in Covariances.names()}))
     logic = LogicConfig(min_status=params['min_status'], clock_tolerance=params['clock_tolerance'],
                         max_age=params['max_age'], max_jump=params['max_jump'], max_speed=params['max_speed'],

@@ -59,6 +59,8 @@ class Recording:
     uav: dict[int, float] = field(default_factory=dict)
     fixes: list[Fix] = field(default_factory=list)
     truth: dict[int, float] = field(default_factory=dict)
+    truth_motion: dict[int, tuple[float, float]] = field(default_factory=dict)
+    """stamp (ns) -> true relative vertical velocity (m/s) and acceleration (m/s^2)."""
     faults: list[RecordedFault] = field(default_factory=list)
 
 
@@ -74,6 +76,7 @@ def read_recording(bag: Path) -> Recording:
         rec.fixes = [fix_from_message(m) for _, m in recorded.decoded('/dgps/fix', required=False)]
         for _, m in recorded.decoded('/truth/relative', required=False):
             rec.truth[stamp_ns(m.header.stamp)] = m.position.z
+            rec.truth_motion[stamp_ns(m.header.stamp)] = (m.velocity.z, m.acceleration.z)
         rec.faults = [RecordedFault(m.sensor, m.kind_name, stamp_ns(m.header.stamp) * 1e-9,
                                     stamp_ns(m.fix_time) * 1e-9, m.sequence, np.array([m.truth.x, m.truth.y, m.truth.z]))
                       for _, m in recorded.decoded('/sensors/faults', required=False)]

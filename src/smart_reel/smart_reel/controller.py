@@ -5,7 +5,12 @@ Catenary-model controller (Fig. 4.2). Every 20 ms (50 Hz):
 1. the reference length ``L_ref`` from the relative position, Δz every tick and the
    radial distance Δr as last sampled at 4 Hz (:class:`SampleHold`), through the project's
    one reference-length model (:func:`tether_dynamics.statics.reference_length.reference_length`,
-   Eq. 4.4/4.5 with its blend and safeguards, or the exact heave-robust length);
+   Eq. 4.4/4.5 with its blend and safeguards, or the exact heave-robust length), and at least
+   the chord plus ``min_slack`` (model ``min_slack``): the model's slack over the chord shrinks
+   with the range (5 cm at the pad, 1.5 m above the guide way), while the error of the relative
+   position does not (the radial distance is the last dGPS fix's, held through a dropout:
+   0.2 m off at the pad as the boat rolled, which reeled a 1.5 m tether 3 cm past taut and
+   pulled 386 N on the landed UAV); 0: the model alone, as the thesis;
 2. the gain-scheduled low-pass filter of Eq. 4.1 (:mod:`smart_reel.scheduler`);
 3. the error ``e_k = L_k - L^LP_ref,k`` of the encoder's length against it;
 4. a discrete PD on the motor voltage (:class:`DiscretePid` with ``ki = 0``, the thesis's
@@ -134,10 +139,11 @@ class CatenaryController:
 
     def __init__(self, kp: float, kd: float, ki: float, period: float, voltage_limit: float,
                  reference_mode: str = 'poly', scheduler: SchmittScheduler | None = None,
-                 voltage_step: float = math.inf) -> None:
+                 voltage_step: float = math.inf, min_slack: float = 0.0) -> None:
         if reference_mode not in ('poly', 'exact'):
             raise ValueError(f"reference mode must be 'poly' or 'exact', got {reference_mode!r}")
         self.reference_mode = reference_mode
+        self.min_slack = min_slack
         self.scheduler = scheduler or SchmittScheduler()
         self.filter = LowPass()
         self.pid = DiscretePid(kp, kd, ki, period, voltage_limit, voltage_step)
@@ -151,11 +157,13 @@ class CatenaryController:
         ``voltage_step`` from it (step 5 of the module docstring).
         """
         ref = reference_length(dr, dz, self.reference_mode)
+        floor = math.hypot(dr, dz) + self.min_slack
+        reference, model = (ref.length, ref.model) if ref.length >= floor else (floor, 'min_slack')
         alpha = self.scheduler.update(dz_rate)
-        filtered = self.filter.update(ref.length, alpha)  # Eq. 4.1
+        filtered = self.filter.update(reference, alpha)  # Eq. 4.1
         error = length - filtered
         pid = self.pid.step(error, applied)
-        return CatenaryOutput(pid.output, ref.length, ref.model, filtered, error, alpha, self.scheduler.slow, pid)
+        return CatenaryOutput(pid.output, reference, model, filtered, error, alpha, self.scheduler.slow, pid)
 
 
 class TautController:

@@ -101,7 +101,7 @@ def build_core(params: dict, initial_length: float) -> ReelCore:
     friction = Friction(params['friction_viscous'], params['friction_coulomb'], params['friction_static'])
     winch = Winch(motor, spool, friction, params['drum_inertia'], initial_length)
     limits = SafetyLimits(params['min_clearance'], math.radians(params['min_departure_angle']),
-                          params['max_tension'])
+                          params['max_tension'], params['trip_delay'], math.radians(0.5 * params['arm_deadband']))
     return ReelCore(params['controller'], winch, Encoder(params['encoder_counts'], params['gear_ratio']),
                     GuideArm(math.radians(params['arm_deadband']), params['arm_encoder_bits']), limits,
                     step=params['step'], control_period=1.0 / params['control_rate'],
@@ -110,7 +110,7 @@ def build_core(params: dict, initial_length: float) -> ReelCore:
                     reference_mode=params['reference_mode'],
                     scheduler=SchmittScheduler(params['schedule_upper'], params['schedule_lower'],
                                                params['alpha_slow']),
-                    taut_torque=params['taut_torque'], sync_gain=params['sync_gain'],
+                    taut_torque=params['taut_torque'], min_slack=params['min_slack'], sync_gain=params['sync_gain'],
                     stiffness=TetherStiffness(params['linear_density'], params['axial_stiffness']))
 
 
@@ -120,7 +120,8 @@ class ReelCore:
     def __init__(self, controller: str, winch: Winch, encoder: Encoder, arm: GuideArm, limits: SafetyLimits, *,
                  step: float, control_period: float, radial_period: float, kp: float, kd: float, ki: float,
                  voltage_limit: float, reference_mode: str, scheduler: SchmittScheduler,
-                 taut_torque: float, sync_gain: float = 10.0, stiffness: TetherStiffness | None = None) -> None:
+                 taut_torque: float, sync_gain: float = 10.0, stiffness: TetherStiffness | None = None,
+                 min_slack: float = 0.0) -> None:
         if controller not in CONTROLLERS:
             raise ValueError(f'controller must be one of {CONTROLLERS}, got {controller!r}')
         ratio = control_period / step
@@ -135,7 +136,7 @@ class ReelCore:
         self.control_period = control_period
         self.radial = SampleHold(radial_period)
         self.catenary = CatenaryController(kp, kd, ki, control_period, voltage_limit, reference_mode, scheduler,
-                                           voltage_step=winch.motor.voltage_step)
+                                           voltage_step=winch.motor.voltage_step, min_slack=min_slack)
         self.taut = TautController(taut_torque, winch.motor.shaft_constant)
         self._next_control: float | None = None
         self._drive = BRAKE
@@ -213,7 +214,7 @@ class ReelCore:
             applied = self._command if self._drive == VOLTAGE else 0.0
             self._control = self.catenary.step(dr, inputs.dz, inputs.dz_rate or 0.0, length, applied)
             drive, command, direction = VOLTAGE, self._control.voltage, self._control.voltage
-        self._trip = self.safety.check(direction, inputs.clearance, self._arm_angle, tension)
+        self._trip = self.safety.check(t, direction, inputs.clearance, self._arm_angle, tension)
         if self._trip:
             drive, command = BRAKE, 0.0
         self._drive, self._command = drive, command

@@ -19,6 +19,9 @@ PARAMETERS: tuple[ParamSpec, ...] = (
               choices=('truth', 'estimate'), read_only=True),
     ParamSpec('reference_mode', 'poly', 'reference-length model: poly (Eq. 4.4/4.5 with blend) or exact '
               '(heave-robust length solved, Sec. 3.1.2)', choices=('poly', 'exact'), read_only=True),
+    ParamSpec('min_slack', 0.0, 'the reference length is at least the chord plus this: slack for the error of the '
+              'relative position where the model\'s own slack is smaller (short ranges: the landing on the pad); '
+              '0: the model alone (smart_reel.controller)', 'm', low=0.0, high=10.0, read_only=True),
     ParamSpec('step', 0.01, 'winch step and /reel/command period; the plant step it exchanges with', 's',
               low=1e-4, high=0.1, read_only=True),
     ParamSpec('control_rate', 50.0, 'PD controller rate (Sec. 4.2)', 'Hz', low=1.0, high=1000.0, read_only=True),
@@ -102,6 +105,10 @@ PARAMETERS: tuple[ParamSpec, ...] = (
               'deg', low=-90.0, high=90.0, read_only=True),
     ParamSpec('max_tension', 80.0, 'safety: stop reeling in when the tension estimate exceeds this', 'N',
               low=0.1, high=10000.0, read_only=True),
+    ParamSpec('trip_delay', 0.1, 'safety: a condition trips once it has lasted this long, or at once past its hard '
+              'band (the lowest point on the deck or the water, a reading half the arm\'s dead band below its '
+              'limit, a tension 20 N over it); 0: every tick past a limit trips (smart_reel.safety)', 's',
+              low=0.0, high=10.0, read_only=True),
     ParamSpec('guide_height', 0.3, 'guide way above the deck: the deck clearance is /tether/state '
               'clearance_deck (below the guide way) plus this', 'm', low=0.0, high=10.0, read_only=True),
 )

@@ -66,16 +66,35 @@ def test_refused_arming_is_retried_after_the_retry_period_with_the_reason_kept()
     assert logic.step(3.1, Inputs(**base)).request == ('arm', True)
 
 
-def test_reel_trip_aborts_and_lands_from_hold():
-    logic = MissionLogic(MissionConfig(altitude=5.0, radial=2.5))
+def test_a_reel_trip_without_a_return_holds_the_station_and_never_lands_beside_the_boat():
+    logic = MissionLogic(MissionConfig(altitude=5.0, radial=2.5, land_time=100.0))
     logic.phase = 'hold'
     flying = dict(connected=True, position_ready=True, position=np.array([2.5, 0.0, 5.0]), mode='GUIDED', armed=True)
     assert logic.step(10.0, Inputs(**flying)).setpoint is not None
     out = logic.step(11.0, Inputs(**flying, reel_fault='tension 95 N > 80 N'))
-    assert out.phase == 'land' and out.request == ('land', None) and out.setpoint is None
+    assert out.phase == 'hold' and out.request is None and np.allclose(out.setpoint, [2.5, 0.0, 5.0])
     assert logic.aborted and out.reason == 'aborted: reel trip: tension 95 N > 80 N'
-    out = logic.step(12.0, Inputs(**flying, answer=('land', False, 'land failed')))
-    assert out.reason == 'aborted: reel trip: tension 95 N > 80 N'      # the abort reason stays
+    out = logic.step(12.0, Inputs(**flying, reel_fault='tension 95 N > 80 N'))
+    assert out.phase == 'hold' and out.reason == 'aborted: reel trip: tension 95 N > 80 N'   # the abort reason stays
+
+
+def test_a_reel_trip_with_a_return_returns_over_the_pad_and_lands_there():
+    """The default scene's abort landed the UAV 10-15 m from the boat with the reel braked: 47.8 s of tether fouled."""
+    logic = MissionLogic(MissionConfig(altitude=30.0, radial=15.0, land_time=180.0, pad=(0.75, 0.0), return_speed=0.5,
+                                       return_height=3.5))
+    logic.phase = 'hold'
+    flying = dict(connected=True, position_ready=True, position=np.array([15.0, 0.0, 30.0]), mode='GUIDED', armed=True)
+    out = logic.step(38.5, Inputs(**flying, reel_fault='payout stopped: departure angle -22.6 deg < -20 deg'))
+    assert out.phase == 'return' and out.request is None and logic.aborted
+    assert out.reason == 'aborted: reel trip: payout stopped: departure angle -22.6 deg < -20 deg'
+    t = 38.5
+    while out.phase == 'return':
+        t += 0.1
+        over = logic.return_setpoint(t)
+        out = logic.step(t, Inputs(**{**flying, 'position': over}, reel_fault='still'))
+    assert out.phase == 'land' and out.request == ('land', None)
+    assert np.allclose(over, [0.75, 0.0, 3.5])
+    assert out.reason.startswith('aborted: reel trip: payout stopped')
 
 
 def test_leaving_guided_before_arming_asks_for_it_again():

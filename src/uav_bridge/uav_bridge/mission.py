@@ -18,14 +18,19 @@ lands: the setpoint moves in a straight line from the station to over the pad at
 within ``return_tolerance`` of the pad horizontally the mission lands, descending onto the
 pad (``return_speed`` 0: it lands where it is). Returning down the line toward the guide way
 keeps Δr/Δz away from 0, where the catenary reference (Sec. 4.2) is the straight chord: a
-hanging tether all the way down. A reel trip
-(tension or fouling) sends it to ``land`` at once, where it is, and the reason is kept, from
-any phase but the return: the return already brings the UAV toward the guide way, shortening
-the tether, which is what either kind of trip calls for (the reel stops paying out a tether
-that sags toward the deck, and stops reeling in one that pulls), and landing where it is
-would put it down beside the boat.
-:class:`TripMonitor` decides when a reel trip counts: once the reel has stayed tripped for
-``abort_after`` seconds (0: at once).
+hanging tether all the way down.
+
+A reel trip that counts (tension or fouling; :class:`TripMonitor`) aborts the mission, with
+its reason kept as the outcome: a flying UAV returns over its pad at once and lands there
+(with a ``return_speed``), or holds its station until the end (without one). It never lands
+where it is: beside the boat, with the reel braked, that lays the tether on the deck or the
+sea. The return brings the UAV toward the guide way, shortening the tether, which is what
+either kind of trip calls for (the reel stops paying out a tether that sags toward the
+deck, and stops reeling in one that pulls). A trip during the return or the landing does
+not change them. :class:`TripMonitor` decides when a reel trip counts: once the reel has
+stayed tripped for ``abort_after`` seconds (0: at once); the reel's own trips clear when
+their condition does, so a trip shorter than that is the reel refusing one direction for a
+while, and the mission flies on.
 """
 
 from __future__ import annotations
@@ -133,18 +138,16 @@ class MissionLogic:
             self.reason = f'{inputs.answer[0]} refused: {inputs.answer[2]}'
             self._next_request = t + self.config.retry_period
         if self.phase not in ('return', 'land', 'landed'):
-            if inputs.reel_fault:
+            if inputs.reel_fault and not self.aborted:
                 self.outcome = f'aborted: reel trip: {inputs.reel_fault}'
                 self.aborted = True
-                self._enter('land')
+                if self.phase not in FLYING:
+                    self._enter('land')
+                elif not self._start_return(t, inputs):
+                    self._enter('hold', self.outcome)
             elif t >= self.config.land_time:
-                self.outcome = 'end of the mission'
-                if self.phase in FLYING and inputs.position is not None and self.config.return_speed > 0.0:
-                    start = self.station.copy() if self.phase == 'hold' else inputs.position.copy()
-                    start[2] = self.station[2]
-                    self._return_start = (t, start)
-                    self._enter('return')
-                else:
+                self.outcome = self.outcome or 'end of the mission'
+                if not (self.phase in FLYING and self._start_return(t, inputs)):
                     self._enter('land')
         handler = getattr(self, f'_{self.phase}')
         request, setpoint = handler(t, inputs)
@@ -154,6 +157,18 @@ class MissionLogic:
             else:
                 self._next_request = t
         return Outputs(self.phase, request, setpoint, self.outcome or self.reason)
+
+    def _start_return(self, t: float, inputs: Inputs) -> bool:
+        """Start the return over the pad from the station (in hold) or the UAV's position at the station's
+        altitude; False when the mission has no return (``return_speed`` 0) or no position yet.
+        """
+        if inputs.position is None or self.config.return_speed <= 0.0:
+            return False
+        start = self.station.copy() if self.phase == 'hold' else inputs.position.copy()
+        start[2] = self.station[2]
+        self._return_start = (t, start)
+        self._enter('return')
+        return True
 
     def _enter(self, phase: str, reason: str = '') -> None:
         self.phase = phase
