@@ -46,6 +46,7 @@ from tether_bringup.errors import RunError
 from tether_bringup.graph_snapshot import write_graph
 from tether_bringup.machine_load import CoreTimes
 from tether_bringup.machine_load import core_times
+from tether_bringup.live_server import live_lines
 from tether_bringup.machine_load import shares
 from tether_bringup.node_group import GROUP_NAME
 from tether_bringup.node_group import node_classes
@@ -70,6 +71,8 @@ STALL_TIMEOUT = 120.0
 EXTERNAL_READY_TIMEOUT = 600.0
 CLOCK_SUBSCRIBER_TIMEOUT = 30.0
 PROGRESS_PERIOD = 0.5
+LIVE_STATS = 'live.yaml'
+"""The live server's URL and, after the run, its statistics, in the run directory."""
 
 
 @dataclass
@@ -84,6 +87,8 @@ class RunOptions:
     title: str = ''
     lockstep_window: float = LOCKSTEP_WINDOW
     compose: bool = True
+    live: tuple[str, int] | None = None
+    """(host, port) of the live Foxglove WebSocket server in the recorder (:mod:`tether_bringup.live_server`)."""
 
 
 class _Stop(Exception):
@@ -133,7 +138,7 @@ def execute(nodes: list[NodeConfig], source, options: RunOptions) -> int:
                         'expected_nodes': [n.name for n in nodes] + ['tethersim'],
                         'exclude': list(options.exclude),
                         'stream_fd': stream[0] if stream else -1,
-                        'stream_nodes': [f'/{config.name}' for config in grouped]}),
+                        'stream_nodes': [f'/{config.name}' for config in grouped], **_live_parameters(options, out)}),
                           pass_fds=stream[:1] if stream else ())
         children.append(recorder)
         for config in nodes:
@@ -151,6 +156,8 @@ def execute(nodes: list[NodeConfig], source, options: RunOptions) -> int:
                   f'waiting for the recorder{waiting} (ROS_DOMAIN_ID={env["ROS_DOMAIN_ID"]})')
         _wait_for(lambda: ready_file.exists(), EXTERNAL_READY_TIMEOUT if external else READY_TIMEOUT, children,
                   executor, lambda: 'the recorder did not subscribe to every node within {:.0f} s')
+        if options.live is not None:
+            _progress(f'{options.title}: live view on {yaml.safe_load((out / LIVE_STATS).read_text())["url"]}')
         expected = len(nodes) + 1
         _wait_for(lambda: source.clock_publisher.get_subscription_count() >= expected and source.matched(node),
                   CLOCK_SUBSCRIBER_TIMEOUT, children, executor,
@@ -188,6 +195,7 @@ def execute(nodes: list[NodeConfig], source, options: RunOptions) -> int:
 
     wall = time.monotonic() - wall_start
     lines = _summary(options, source, children, wall, failure, cpu, read_cpu(out / 'logs' / f'{GROUP_NAME}.cpu.yaml'))
+    lines += live_lines(out / LIVE_STATS) if options.live is not None else []
     if recorder is not None and recorder.returncode not in (0, None) and status == 0:
         status = 1
     bag_dir = out / 'bag'
@@ -211,6 +219,13 @@ def execute(nodes: list[NodeConfig], source, options: RunOptions) -> int:
     if failure:
         print(f'tethersim: error: {failure}', file=sys.stderr, flush=True)
     return status
+
+
+def _live_parameters(options: RunOptions, out: Path) -> dict:
+    """The recorder's parameters of the live server (none without one)."""
+    if options.live is None:
+        return {}
+    return {'live_host': options.live[0], 'live_port': options.live[1], 'live_stats_file': str(out / LIVE_STATS)}
 
 
 def _bringup_program(name: str) -> str:
