@@ -15,6 +15,7 @@ from __future__ import annotations
 import json
 import math
 import shutil
+import socket
 import subprocess
 import time
 from pathlib import Path
@@ -50,7 +51,7 @@ SCENE = {
     },
 }
 
-pytestmark = pytest.mark.skipif(shutil.which('node') is None or not (CLIENT.parent / 'node_modules').is_dir(),
+needs_client = pytest.mark.skipif(shutil.which('node') is None or not (CLIENT.parent / 'node_modules').is_dir(),
                                 reason='the live view test client needs Node.js and `make live-client`')
 
 
@@ -138,6 +139,7 @@ def _mismatches(run_dir: Path, events: list[dict]) -> list[str]:
     return problems
 
 
+@needs_client
 def test_client_sees_every_recorded_topic_with_the_bags_schema(runs):
     base, live, _ = runs
     bag = read_bag(base / 'live' / 'bag')
@@ -150,6 +152,7 @@ def test_client_sees_every_recorded_topic_with_the_bags_schema(runs):
         assert channel['schema'] == bag.topics[topic].definition, topic
 
 
+@needs_client
 def test_client_decodes_the_bags_messages(runs):
     base, live, _ = runs
     received = _received(live)
@@ -163,6 +166,23 @@ def test_client_decodes_the_bags_messages(runs):
     assert {marker['header']['frame_id'] for marker in markers} == {'world'}
 
 
+@needs_client
+def test_what_the_3d_panel_shows_is_in_world(runs):
+    base, _, _ = runs
+    bag = read_bag(base / 'live' / 'bag')
+    shown = {name for name, topic in bag.topics.items()
+             if topic.type_name in ('geometry_msgs/msg/PoseStamped', 'visualization_msgs/msg/MarkerArray')}
+    assert {'/tether/markers', '/platform/reel_pose'} <= shown
+    frames = set()
+    for message in bag.messages:
+        if message.topic in shown:
+            decoded = deserialize_message(message.data, message_class(bag.topics[message.topic].type_name))
+            frames |= {m.header.frame_id for m in decoded.markers} if hasattr(decoded, 'markers') \
+                else {decoded.header.frame_id}
+    assert frames == {'world'}
+
+
+@needs_client
 def test_server_time_is_the_runs_sim_time(runs):
     base, live, _ = runs
     times = [int(event['time']) for event in live if event['event'] == 'time']
@@ -171,11 +191,13 @@ def test_server_time_is_the_runs_sim_time(runs):
     assert times[0] in clock
 
 
+@needs_client
 def test_payloads_identical_with_and_without_live(runs):
     base, _, _ = runs
     assert differing_topics(base / 'live', base / 'plain') == []
 
 
+@needs_client
 def test_summary_reports_the_servers_share(runs):
     base, _, _ = runs
     stats = yaml.safe_load((base / 'live' / 'live.yaml').read_text())
@@ -186,8 +208,26 @@ def test_summary_reports_the_servers_share(runs):
     assert f'{stats["served"]} of {stats["offered"]} messages' in line
 
 
+@needs_client
 def test_replay_serves_the_bag_again(runs):
     base, _, replayed = runs
     received = _received(replayed)
     assert all(received[topic] for topic in SUBSCRIBED)
     assert _mismatches(base / 'live', replayed) == []
+
+
+def test_a_port_in_use_is_a_usage_error(tmp_path):
+    with socket.create_server(('127.0.0.1', 0)) as held:
+        port = held.getsockname()[1]
+        result = tethersim('run', write_scene(SCENE, tmp_path / 'scene.yaml'), '--out', str(tmp_path / 'run'),
+                           '--live', str(port))
+    assert result.returncode == 2
+    assert result.stderr.splitlines() == [f'tethersim: error: --live: cannot listen on 127.0.0.1:{port} '
+                                          '(Address already in use); give another port (--live PORT)']
+    assert not (tmp_path / 'run').exists()
+
+
+def test_a_bad_port_is_a_usage_error(tmp_path):
+    result = tethersim('run', '--live', 'tether_demo')
+    assert result.returncode == 2
+    assert 'expected a TCP port' in result.stderr and 'Traceback' not in result.stderr

@@ -9,6 +9,7 @@ installed ones (``python -m tether_bringup`` runs it too).
 from __future__ import annotations
 
 import argparse
+import errno
 import socket
 import sys
 import time
@@ -73,11 +74,14 @@ def _live(args: argparse.Namespace) -> tuple[str, int] | None:
         return None
     if args.live:
         try:
-            with socket.create_server((args.live_host, args.live), reuse_port=False):
-                pass
+            with socket.socket(socket.AF_INET6 if ':' in args.live_host else socket.AF_INET) as probe:
+                probe.setsockopt(socket.SOL_SOCKET, socket.SO_REUSEADDR, 1)  # as the server's own listener
+                probe.bind((args.live_host, args.live))
         except OSError as error:
-            raise UsageError(f'--live: cannot listen on {args.live_host}:{args.live} ({error.strerror}); '
-                             'give another port (--live PORT)') from None
+            fix = 'give another port (--live PORT)' if error.errno == errno.EADDRINUSE else \
+                'give an address of this machine (--live-host)'
+            raise UsageError(f'--live: cannot listen on {args.live_host}:{args.live} ({error.strerror}); {fix}') \
+                from None
     return args.live_host, args.live
 
 
