@@ -37,11 +37,13 @@ from tether_bringup.msgdef import concatenated_definition
 
 POLL_PERIOD = 0.02
 """Seconds between the serving thread's passes over the queue: the latency a viewer sees, at most."""
-SAMPLE_PERIOD = 0.5
+SAMPLE_PERIOD = 0.25
 """Wall seconds between samples of the server's CPU, each at the /clock value it has just served."""
 QUEUE_LENGTH = 20000
 """Messages the queue holds before it drops the oldest (about 10 s of outdoor_flight at real time)."""
 CLOCK_TOPIC = '/clock'
+RESCAN_PERIOD = 2.0
+"""Wall seconds between looks for new SDK threads (its runtime starts them as it needs them)."""
 SDK_THREAD = 'tokio-rt-worker'
 """The name of the Foxglove SDK server's threads (its Rust runtime's workers) in /proc."""
 _TICKS = os.sysconf('SC_CLK_TCK')
@@ -52,18 +54,29 @@ def _schema(type_name: str) -> foxglove.Schema:
     return foxglove.Schema(name=type_name, encoding='ros2msg', data=concatenated_definition(type_name).encode())
 
 
-def sdk_threads_cpu() -> float:
-    """CPU seconds of this process's Foxglove SDK threads (user and system), from /proc."""
-    total = 0
+def sdk_threads() -> list[Path]:
+    """The /proc directories of this process's Foxglove SDK threads."""
+    found = []
     for task in Path('/proc/self/task').iterdir():
         try:
-            if (task / 'comm').read_text().strip() != SDK_THREAD:
-                continue
-            fields = (task / 'stat').read_text().rpartition(')')[2].split()
+            if (task / 'comm').read_text().strip() == SDK_THREAD:
+                found.append(task)
         except OSError:
             continue
-        total += int(fields[11]) + int(fields[12])
-    return total / _TICKS
+    return found
+
+
+def thread_cpu(task: Path) -> float:
+    """CPU seconds of one thread: its ``schedstat`` run time (ns), else its ``stat`` user and system ticks."""
+    try:
+        return int((task / 'schedstat').read_text().split()[0]) / 1e9
+    except (OSError, ValueError, IndexError):
+        pass
+    try:
+        fields = (task / 'stat').read_text().rpartition(')')[2].split()
+    except OSError:
+        return 0.0
+    return (int(fields[11]) + int(fields[12])) / _TICKS
 
 
 class LiveServer:
@@ -83,6 +96,8 @@ class LiveServer:
         self._samples: list[tuple[int, float]] = []
         """(sim time ns, CPU s) at the first /clock value served and then every SAMPLE_PERIOD."""
         self._total_cpu = 0.0
+        self._sdk_threads: list[Path] = []
+        self._rescan = 0.0
         self._stop = threading.Event()
         self._thread = threading.Thread(target=self._serve, name='live server', daemon=True)
         self._thread.start()
@@ -105,7 +120,10 @@ class LiveServer:
 
     def _cpu(self) -> float:
         """CPU seconds of the serving thread (called in it) and the SDK's threads so far."""
-        return time.thread_time() + sdk_threads_cpu()
+        if time.monotonic() >= self._rescan:
+            self._rescan = time.monotonic() + RESCAN_PERIOD
+            self._sdk_threads = sdk_threads()
+        return time.thread_time() + sum(thread_cpu(task) for task in self._sdk_threads)
 
     def _serve(self) -> None:
         queue, clock, sampled = self._queue, None, 0.0
@@ -126,6 +144,7 @@ class LiveServer:
                 clock = None
             if stopping:
                 break
+        self._rescan = 0.0
         self._total_cpu = self._cpu()
 
     def stop(self) -> None:
