@@ -44,9 +44,9 @@ from tether_bringup.errors import BagError
 from tether_bringup.errors import RunDirectoryError
 from tether_bringup.errors import RunError
 from tether_bringup.graph_snapshot import write_graph
+from tether_bringup.live_server import live_lines
 from tether_bringup.machine_load import CoreTimes
 from tether_bringup.machine_load import core_times
-from tether_bringup.live_server import live_lines
 from tether_bringup.machine_load import shares
 from tether_bringup.node_group import GROUP_NAME
 from tether_bringup.node_group import node_classes

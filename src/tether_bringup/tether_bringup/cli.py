@@ -71,6 +71,8 @@ def _add_live(parser: argparse.ArgumentParser) -> None:
 def _live(args: argparse.Namespace) -> tuple[str, int] | None:
     """The live server's (host, port), or None without --live; a port another program holds is a usage error."""
     if args.live is None:
+        if args.live_host != LIVE_HOST:
+            raise UsageError('--live-host without --live: add --live [PORT]')
         return None
     if args.live:
         try:
