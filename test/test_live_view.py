@@ -4,8 +4,8 @@ The client (``test/live_client/client.mjs``, installed by ``make live-client``) 
 own: the ``@foxglove/ws-protocol`` client over ``ws`` under Node.js, decoding each message
 with the ros2msg parser and CDR reader the Foxglove app uses (``@foxglove/rosmsg``,
 ``@foxglove/rosmsg2-serialization``). It connects while the run starts, subscribes to
-``/tether/markers`` and ``/tether/state`` once advertised, and prints what it received as
-JSON lines. What it decoded must be what the same run's bag holds at the same log time, and
+``/tether/markers`` and ``/tether/state`` once advertised (the run's clock starts only then:
+``--live-wait``), and prints what it received as JSON lines. What it decoded must be what the same run's bag holds at the same log time, and
 the run's payloads must be those of the same scene run without ``--live``; the replay of
 that bag serves the same messages again.
 """
@@ -68,8 +68,10 @@ def _wait_for_url(run: subprocess.Popen, stats: Path) -> str:
 
 
 def _serve_and_watch(args: list[str], run_dir: Path) -> list[dict]:
-    """Run ``tethersim ARGS --out run_dir --live 0`` with the client connected; return the client's events."""
-    run = start_tethersim(*args, '--out', str(run_dir), '--live', '0')
+    """Run ``tethersim ARGS --out run_dir --live 0 --live-wait`` with the client connected (the clock starts once it
+    has subscribed); return the client's events.
+    """
+    run = start_tethersim(*args, '--out', str(run_dir), '--live', '0', '--live-wait')
     try:
         url = _wait_for_url(run, run_dir / 'live.yaml')
         client = subprocess.Popen(['node', str(CLIENT), url, *SUBSCRIBED], stdout=subprocess.PIPE,
@@ -185,6 +187,8 @@ def test_what_the_3d_panel_shows_is_in_world(runs):
 @needs_client
 def test_server_time_is_the_runs_sim_time(runs):
     base, live, _ = runs
+    [info] = [event for event in live if event['event'] == 'serverInfo']
+    assert 'time' in info['capabilities']
     times = [int(event['time']) for event in live if event['event'] == 'time']
     assert len(times) == 1
     clock = [m.log_time for m in read_bag(base / 'live' / 'bag').messages if m.topic == '/clock']

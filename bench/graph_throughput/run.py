@@ -219,7 +219,8 @@ def live_stage(out: Path, label: str, nodes: dict, duration: float) -> list[str]
     scene = out / f'{slug}.yaml'
     _scene(scene, nodes, duration, CONFIGS['group'])
     run = subprocess.Popen([sys.executable, '-m', 'tether_bringup.cli', 'run', str(scene), '--out', str(run_dir),
-                            '--live', '0'], stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
+                            '--live', '0', '--live-wait'], stdout=subprocess.DEVNULL, stderr=subprocess.PIPE,
+                           text=True)
     stats = run_dir / 'live.yaml'
     while run.poll() is None and not stats.exists():
         time.sleep(0.05)

@@ -8,6 +8,7 @@
 // topic for "*") once the server advertises it, and prints one JSON line per event to stdout
 // until the server closes the connection (with --count only the close event, with the number
 // of messages received per topic):
+//   {"event": "serverInfo", "name", "capabilities"}
 //   {"event": "advertise", "channels": [{topic, encoding, schemaName, schemaEncoding, schema}]}
 //   {"event": "message", "topic", "logTime", "message"}  (logTime in ns as a string; the
 //                                                        message decoded from its CDR bytes)
@@ -68,6 +69,9 @@ function connect() {
   const client = new FoxgloveClient({ ws });
   const readers = new Map();
   let timeSeen = false;
+  client.on("serverInfo", ({ name, capabilities }) => {
+    emit({ event: "serverInfo", name, capabilities });
+  });
   client.on("advertise", (channels) => {
     emit({
       event: "advertise",

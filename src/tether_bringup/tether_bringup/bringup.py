@@ -89,6 +89,8 @@ class RunOptions:
     compose: bool = True
     live: tuple[str, int] | None = None
     """(host, port) of the live Foxglove WebSocket server in the recorder (:mod:`tether_bringup.live_server`)."""
+    live_wait: bool = False
+    """Start the clock only once a client has subscribed to the live server."""
 
 
 class _Stop(Exception):
@@ -154,10 +156,16 @@ def execute(nodes: list[NodeConfig], source, options: RunOptions) -> int:
         waiting = f' and the external node(s) {", ".join(external)}' if external else ''
         _progress(f'{options.title}: {len(nodes) - len(external)} node(s) started in {len(children) - 1} process(es), '
                   f'waiting for the recorder{waiting} (ROS_DOMAIN_ID={env["ROS_DOMAIN_ID"]})')
-        _wait_for(lambda: ready_file.exists(), EXTERNAL_READY_TIMEOUT if external else READY_TIMEOUT, children,
-                  executor, lambda: 'the recorder did not subscribe to every node within {:.0f} s')
         if options.live is not None:
-            _progress(f'{options.title}: live view on {yaml.safe_load((out / LIVE_STATS).read_text())["url"]}')
+            _wait_for(lambda: (out / LIVE_STATS).exists(), READY_TIMEOUT, children, executor,
+                      lambda: 'the recorder did not start the live server within {:.0f} s')
+            _progress(f'{options.title}: live view on {yaml.safe_load((out / LIVE_STATS).read_text())["url"]}'
+                      + (': the clock starts once a client subscribes' if options.live_wait else ''))
+        _wait_for(lambda: ready_file.exists(),
+                  EXTERNAL_READY_TIMEOUT if external or options.live_wait else READY_TIMEOUT, children, executor,
+                  lambda: 'the recorder did not subscribe to every node' + (' and no live client subscribed'
+                                                                            if options.live_wait else '')
+                  + ' within {:.0f} s')
         expected = len(nodes) + 1
         _wait_for(lambda: source.clock_publisher.get_subscription_count() >= expected and source.matched(node),
                   CLOCK_SUBSCRIBER_TIMEOUT, children, executor,
@@ -225,7 +233,8 @@ def _live_parameters(options: RunOptions, out: Path) -> dict:
     """The recorder's parameters of the live server (none without one)."""
     if options.live is None:
         return {}
-    return {'live_host': options.live[0], 'live_port': options.live[1], 'live_stats_file': str(out / LIVE_STATS)}
+    return {'live_host': options.live[0], 'live_port': options.live[1], 'live_stats_file': str(out / LIVE_STATS),
+            'live_wait': options.live_wait}
 
 
 def _bringup_program(name: str) -> str:

@@ -64,6 +64,8 @@ def _add_live(parser: argparse.ArgumentParser) -> None:
     parser.add_argument('--live', nargs='?', type=_port, const=LIVE_PORT, metavar='PORT',
                         help=f'serve the recorded topics over the Foxglove WebSocket protocol while it runs, on '
                              f'ws://HOST:PORT (default port {LIVE_PORT}; 0: any free one; see docs/live.md)')
+    parser.add_argument('--live-wait', action='store_true',
+                        help='with --live: start the clock only once a client has subscribed (watch from the start)')
     parser.add_argument('--live-host', default=LIVE_HOST,
                         help=f'address the live server listens on (default {LIVE_HOST}, this machine only)')
 
@@ -71,8 +73,8 @@ def _add_live(parser: argparse.ArgumentParser) -> None:
 def _live(args: argparse.Namespace) -> tuple[str, int] | None:
     """The live server's (host, port), or None without --live; a port another program holds is a usage error."""
     if args.live is None:
-        if args.live_host != LIVE_HOST:
-            raise UsageError('--live-host without --live: add --live [PORT]')
+        if args.live_host != LIVE_HOST or args.live_wait:
+            raise UsageError(f'{"--live-wait" if args.live_wait else "--live-host"} without --live: add --live [PORT]')
         return None
     if args.live:
         try:
@@ -139,7 +141,7 @@ def _run(args: argparse.Namespace) -> int:
         options = RunOptions(out_dir=args.out or _default_out(scene.name), domain_id=domain_id,
                              discovery=args.discovery, exclude=tuple(scene.exclude), reports=tuple(scene.reports),
                              title=f'tethersim run {scene.name}', lockstep_window=scene.lockstep_window,
-                             compose=scene.compose, live=_live(args))
+                             compose=scene.compose, live=_live(args), live_wait=args.live_wait)
         return execute(scene.nodes, source, options)
 
 
@@ -175,7 +177,8 @@ def _replay(args: argparse.Namespace) -> int:
     with reserved_domain(args.domain_id) as domain_id:
         options = RunOptions(out_dir=args.out or _default_out(name), domain_id=domain_id,
                              discovery=args.discovery, exclude=tuple(exclude), reports=tuple(reports),
-                             title=f'tethersim replay {bag.path.name}', compose=compose, live=_live(args))
+                             title=f'tethersim replay {bag.path.name}', compose=compose, live=_live(args),
+                             live_wait=args.live_wait)
         return execute(nodes, source, options)
 
 

@@ -79,13 +79,30 @@ def thread_cpu(task: Path) -> float:
     return (int(fields[11]) + int(fields[12])) / _TICKS
 
 
-class LiveServer:
-    """A Foxglove WebSocket server on ``host:port`` (0: any free port) with one channel per topic."""
+class _Subscriptions:
+    """The server's listener: sets ``subscribed`` once a client has subscribed to a channel."""
 
-    def __init__(self, host: str, port: int, stats_file: str = '') -> None:
+    def __init__(self) -> None:
+        self.subscribed = threading.Event()
+
+    def on_subscribe(self, client, channel) -> None:
+        self.subscribed.set()
+
+
+class LiveServer:
+    """A Foxglove WebSocket server on ``host:port`` (0: any free port) with one channel per topic.
+
+    With ``wait_for_client``, :attr:`ready` is False until a client has subscribed to a channel:
+    the recorder reports ready only then, so the clock starts with a viewer watching.
+    """
+
+    def __init__(self, host: str, port: int, stats_file: str = '', wait_for_client: bool = False) -> None:
         self._context = foxglove.Context()
+        self._listener = _Subscriptions()
+        if not wait_for_client:
+            self._listener.subscribed.set()
         self._server = foxglove.start_server(name='tethersim', host=host, port=port, capabilities=[Capability.Time],
-                                             context=self._context)
+                                             context=self._context, server_listener=self._listener)
         self.url = f'ws://{host}:{self._server.port}'
         self._stats_file = stats_file
         self._channels: dict[str, foxglove.Channel] = {}
@@ -103,6 +120,11 @@ class LiveServer:
         self._thread.start()
         if stats_file:
             Path(stats_file).write_text(yaml.safe_dump({'url': self.url}))
+
+    @property
+    def ready(self) -> bool:
+        """False while the server waits for a client to subscribe."""
+        return self._listener.subscribed.is_set()
 
     def advertise(self, topic: str, type_name: str) -> None:
         """Add a channel for ``topic`` with the ros2msg schema of ``type_name``."""

@@ -25,7 +25,8 @@ ready once the group has announced its publishers; at shutdown it reads the stre
 end (the group has exited) before it finalizes the bag.
 
 With ``live_port``, it also serves what it writes over the Foxglove WebSocket protocol
-(:mod:`tether_bringup.live_server`).
+(:mod:`tether_bringup.live_server`); with ``live_wait`` it reports ready only once a client
+has subscribed there.
 """
 
 from __future__ import annotations
@@ -124,7 +125,7 @@ class Recorder(Node):
         self.bag = BagWriter(self.params['bag_directory'], flush_period=self.params['flush_period'])
         if self.params['live_port'] >= 0:
             self.bag = LiveBag(self.bag, LiveServer(self.params['live_host'], self.params['live_port'],
-                                                    self.params['live_stats_file']))
+                                                    self.params['live_stats_file'], self.params['live_wait']))
         self.sim_time_ns = 0
         self._subscriptions_by_topic = {}
         self._last_change = time.monotonic()
@@ -154,7 +155,7 @@ class Recorder(Node):
 
     def discover(self) -> None:
         """Subscribe to new topics (or take them from the group's stream); report readiness once the graph has settled."""
-        waiting = False
+        waiting = isinstance(self.bag, LiveBag) and not self.bag.server.ready
         for topic, (type_name, count) in list(self._streamed.items()):
             if self.count_publishers(topic) != count:
                 waiting |= self._check_streamed(topic, type_name)

@@ -27,5 +27,6 @@ PARAMETERS = (
     ParamSpec('live_port', -1, 'Port of the live Foxglove WebSocket server (tether_bringup.live_server): -1 none, '
               '0 any free one', '', -1, 65535),
     ParamSpec('live_host', LIVE_HOST, 'Address the live server listens on'),
+    ParamSpec('live_wait', False, 'Report ready only once a client has subscribed to the live server'),
     ParamSpec('live_stats_file', '', 'File the live server writes its URL to at start and its statistics at stop'),
 )
