@@ -170,7 +170,9 @@ class LiveServer:
         self._total_cpu = self._cpu()
 
     def stop(self) -> None:
-        """Serve what is queued, close the connections and write the statistics file."""
+        """Serve what is queued, close the connections and write the statistics file (once)."""
+        if self._stop.is_set():
+            return
         self._stop.set()
         self._thread.join()
         self._server.stop()
