@@ -72,15 +72,18 @@ def _serve_and_watch(args: list[str], run_dir: Path) -> list[dict]:
     has subscribed); return the client's events.
     """
     run = start_tethersim(*args, '--out', str(run_dir), '--live', '0', '--live-wait')
+    client = None
     try:
         url = _wait_for_url(run, run_dir / 'live.yaml')
         client = subprocess.Popen(['node', str(CLIENT), url, *SUBSCRIBED], stdout=subprocess.PIPE,
                                   stderr=subprocess.PIPE, text=True)
         _, run_errors = run.communicate(timeout=RUN_TIMEOUT)
+        assert run.returncode == 0, run_errors[-2000:]
         output, client_errors = client.communicate(timeout=RUN_TIMEOUT)
     finally:
         run.kill()
-    assert run.returncode == 0, run_errors[-2000:]
+        if client is not None:
+            client.kill()
     assert client.returncode == 0, client_errors[-2000:]
     return [json.loads(line) for line in output.splitlines()]
 

@@ -229,6 +229,8 @@ def live_stage(out: Path, label: str, nodes: dict, duration: float) -> list[str]
                               stdout=subprocess.PIPE, text=True) if url else None
     _, errors = run.communicate(timeout=3600)
     if run.returncode != 0 or client is None:
+        if client is not None:
+            client.kill()
         raise SystemExit(f'graph_throughput: stage {label} (group, --live) failed:\n{errors[-2000:]}')
     received = sum(json.loads(client.communicate(timeout=60)[0].splitlines()[-1])['counts'].values())
     _, _, _, cpu = _summary(run_dir)
