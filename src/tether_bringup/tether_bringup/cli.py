@@ -66,7 +66,7 @@ def _add_live(parser: argparse.ArgumentParser) -> None:
                              f'ws://HOST:PORT (default port {LIVE_PORT}; 0: any free one; see docs/live.md)')
     parser.add_argument('--live-wait', action='store_true',
                         help='with --live: start the clock only once a client has subscribed (watch from the start)')
-    parser.add_argument('--live-host', default=LIVE_HOST,
+    parser.add_argument('--live-host', default=LIVE_HOST, metavar='HOST',
                         help=f'address the live server listens on (default {LIVE_HOST}, this machine only)')
 
 
