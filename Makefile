@@ -5,6 +5,8 @@ PYTHON ?= python3.11
 VENV := .venv
 STAMP_VENV := $(VENV)/.requirements-installed
 STAMP_BUILD := install/.build-stamp
+LIVE_CLIENT := test/live_client
+STAMP_NODE := $(LIVE_CLIENT)/node_modules/.installed
 SCENE ?= outdoor_flight
 ARGS ?=
 
@@ -12,7 +14,7 @@ export AMENT_PREFIX_PATH := $(CURDIR)/$(VENV)
 
 PKG_SOURCES := $(shell find src -type f \( -name '*.msg' -o -name 'CMakeLists.txt' -o -name 'package.xml' -o -name 'setup.py' -o -name 'setup.cfg' -o -path '*/scenes/*' \) 2>/dev/null)
 
-.PHONY: setup build run test lint bench clean
+.PHONY: setup build run test lint bench clean live-client
 
 setup: $(STAMP_BUILD)
 
@@ -32,10 +34,18 @@ $(STAMP_BUILD): $(STAMP_VENV) $(PKG_SOURCES) cmake/wheel_include_fix.cmake
 
 build: $(STAMP_BUILD)
 
+# the live view's test client (Foxglove's own protocol client and ROS 2 decoder, from npm, pinned by the lock file)
+$(STAMP_NODE): $(LIVE_CLIENT)/package.json $(LIVE_CLIENT)/package-lock.json
+	@command -v npm >/dev/null 2>&1 || { echo "tethersim: error: npm (Node.js 20) is needed for the live view's test client (e.g. sudo apt-get install nodejs npm)" >&2; exit 2; }
+	npm ci --prefix $(LIVE_CLIENT) --ignore-scripts --no-audit --no-fund --loglevel=error
+	@touch $@
+
+live-client: $(STAMP_NODE)
+
 run: $(STAMP_BUILD)
 	./tethersim run $(SCENE) $(ARGS)
 
-test: $(STAMP_BUILD) lint
+test: $(STAMP_BUILD) $(STAMP_NODE) lint
 	./tethersim-env python -m pytest -q -n 2 --dist loadfile --no-loadscope-reorder src test $(ARGS)
 
 # ruff over all Python, mypy over the plain-Python cores (pyproject.toml says which and how)
@@ -47,4 +57,4 @@ bench: $(STAMP_BUILD)
 	@for bench in bench/*/run.py; do echo "== $$bench"; ./tethersim-env python $$bench || exit 1; done
 
 clean:
-	rm -rf build install log $(VENV)
+	rm -rf build install log $(VENV) $(LIVE_CLIENT)/node_modules

@@ -39,16 +39,26 @@ process's main thread, the one that runs Python: 1 / the busiest main thread's C
 simulated second), which does not depend on what else loads the machine. Writes
 ``summary.txt`` and ``table.csv`` to --out.
 
-Run:  ./tethersim-env python bench/graph_throughput/run.py [--duration 10] [--scene NAME] [--out DIR]
+Last, the live view: the scene stage in the ``group`` configuration again with ``--live``
+and a client subscribed to every topic, decoding each message (``test/live_client``,
+Foxglove's own protocol client under Node.js, ``make live-client``; skipped without it).
+It reports the live server's CPU per simulated second (its thread and the Foxglove SDK's,
+the run's ``live.yaml``) against the node group's (goal: at most
+:data:`LIVE_GOAL` of it), and the recorder's with and without the server.
+
+Run:  ./tethersim-env python bench/graph_throughput/run.py [--duration 10] [--scene NAME] [--out DIR] [--live-only]
 """
 
 from __future__ import annotations
 
 import argparse
 import csv
+import json
 import os
+import shutil
 import subprocess
 import sys
+import time
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -56,6 +66,7 @@ import yaml
 
 from tether_bringup.bag_reader import read_bag
 from tether_bringup.errors import SceneError
+from tether_bringup.live_server import cpu_per_sim_second
 from tether_bringup.node_group import GROUP_NAME
 from tether_bringup.scene import find_scene
 
@@ -77,6 +88,10 @@ PLANT = {'package': 'tether_dynamics', 'executable': 'plant',
 REEL = {'package': 'smart_reel', 'executable': 'reel', 'parameters': {'relative_source': 'truth'}}
 GOAL = 5.0
 """Real-time factor the full graph with the quadratic plant is to reach in the node group."""
+LIVE_GOAL = 0.10
+"""The live server's CPU per simulated second as a share of the node group's it is to stay within."""
+LIVE_CLIENT = HERE.parent.parent / 'test' / 'live_client'
+LIVE_MISSING = 'live view: not measured (needs Node.js and `make live-client`)'
 QUADRATIC = {'fidelity': 'quadratic', 'elements': 20, 'integration_step': 1e-4}
 STAGES = {
     'platform': {'platform': PLATFORM},
@@ -193,15 +208,64 @@ def run_stage(out: Path, label: str, nodes: dict, config: str,
     return rate, ceiling, rows
 
 
+def live_stage(out: Path, label: str, nodes: dict, duration: float) -> list[str] | None:
+    """Run one stage in the ``group`` configuration with ``--live`` and a client subscribed to every topic;
+    the report's lines (None without the client installed).
+    """
+    if shutil.which('node') is None or not (LIVE_CLIENT / 'node_modules').is_dir():
+        return None
+    slug = _slug(label, 'group') + '-live'
+    run_dir = out / slug
+    scene = out / f'{slug}.yaml'
+    _scene(scene, nodes, duration, CONFIGS['group'])
+    run = subprocess.Popen([sys.executable, '-m', 'tether_bringup.cli', 'run', str(scene), '--out', str(run_dir),
+                            '--live', '0', '--live-wait'], stdout=subprocess.DEVNULL, stderr=subprocess.PIPE,
+                           text=True)
+    stats = run_dir / 'live.yaml'
+    while run.poll() is None and not stats.exists():
+        time.sleep(0.05)
+    url = yaml.safe_load(stats.read_text())['url'] if stats.exists() else None
+    client = subprocess.Popen(['node', str(LIVE_CLIENT / 'client.mjs'), url, '--count', '*'],
+                              stdout=subprocess.PIPE, text=True) if url else None
+    _, errors = run.communicate(timeout=3600)
+    if run.returncode != 0 or client is None:
+        if client is not None:
+            client.kill()
+        raise SystemExit(f'graph_throughput: stage {label} (group, --live) failed:\n{errors[-2000:]}')
+    received = sum(json.loads(client.communicate(timeout=60)[0].splitlines()[-1])['counts'].values())
+    _, _, _, cpu = _summary(run_dir)
+    served = yaml.safe_load(stats.read_text())
+    live = cpu_per_sim_second(served)
+    if live is None:
+        raise SystemExit(f'graph_throughput: stage {label} (group, --live): the server sampled its CPU at fewer '
+                         f'than two /clock values ({run_dir / "live.yaml"})')
+    share = live / cpu[GROUP_NAME]
+    _, _, _, plain = _summary(out / _slug(label, 'group'))
+    return [f'live view ({label}, group, --live with a client subscribed to every topic): the server used '
+            f'{live:.4f} CPU s per sim s, {share:.1%} of the node group\'s {cpu[GROUP_NAME]:.3f} (goal <= '
+            f'{LIVE_GOAL:.0%}: {"met" if share <= LIVE_GOAL else "not met"}); it handed {served["served"]} of '
+            f'{served["offered"]} messages to the Foxglove server, the client decoded {received}; the recorder '
+            f'used {cpu["recorder"]:.3f} CPU s per sim s with it, {plain["recorder"]:.3f} in the run without']
+
+
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument('--duration', type=float, default=10.0, help='simulated seconds per stage (default 10)')
     parser.add_argument('--scene', help=f'scene of the last stage (default: the first installed of '
                                         f'{", ".join(FULLEST_SCENES)})')
     parser.add_argument('--out', type=Path, default=Path('runs/bench-graph_throughput'))
+    parser.add_argument('--live-only', action='store_true',
+                        help='only the scene stage in the group configuration, without and with --live')
     args = parser.parse_args(argv)
     args.out.mkdir(parents=True, exist_ok=True)
     scene = args.scene or next(name for name in FULLEST_SCENES if _installed(name))
+    if args.live_only:
+        label = f'scene {scene}'
+        run_stage(args.out, label, scene_nodes(scene), 'group', args.duration)
+        text = '\n'.join(live_stage(args.out, label, scene_nodes(scene), args.duration) or [LIVE_MISSING]) + '\n'
+        (args.out / 'live.txt').write_text(text)
+        print(text, end='')
+        return 0
     stages = dict(STAGES, **{f'scene {scene}': scene_nodes(scene)})
     quadratic = scene_nodes(scene)
     plants = [settings for settings in quadratic.values() if settings.get('executable') == 'plant']
@@ -217,6 +281,9 @@ def main(argv: list[str] | None = None) -> int:
             rate, ceiling, stage_rows = run_stage(args.out, label, nodes, config, args.duration)
             rates[label, config], ceilings[label, config] = rate, ceiling
             rows += stage_rows
+
+    print(f'stage {"scene " + scene:<22} group --live ...', file=sys.stderr, flush=True)
+    live = live_stage(args.out, f'scene {scene}', stages[f'scene {scene}'], args.duration)
 
     cores = os.cpu_count() or 1
     names = list(CONFIGS)
@@ -238,6 +305,7 @@ def main(argv: list[str] | None = None) -> int:
                      f'achieved {rate:.2f}x (ceiling {ceiling:.2f}x), {"met" if rate >= GOAL else "not met"}')
         summary = (args.out / _slug(f'{scene} quadratic', 'group') / 'summary.txt').read_text().splitlines()
         lines += [f'  in that run, {line}' for line in summary if line.startswith("the machine's")]
+    lines += live or [LIVE_MISSING]
     lines += ['', 'CPU per message (us) and CPU per simulated second (s/s) per process',
               f'{"stage":<24} {"config":<7} {"process":<10} {"msgs":>8} {"us/msg":>8} {"s/s":>7}']
     for r in rows:

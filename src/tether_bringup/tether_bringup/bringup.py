@@ -44,6 +44,7 @@ from tether_bringup.errors import BagError
 from tether_bringup.errors import RunDirectoryError
 from tether_bringup.errors import RunError
 from tether_bringup.graph_snapshot import write_graph
+from tether_bringup.live_server import live_lines
 from tether_bringup.machine_load import CoreTimes
 from tether_bringup.machine_load import core_times
 from tether_bringup.machine_load import shares
@@ -70,6 +71,8 @@ STALL_TIMEOUT = 120.0
 EXTERNAL_READY_TIMEOUT = 600.0
 CLOCK_SUBSCRIBER_TIMEOUT = 30.0
 PROGRESS_PERIOD = 0.5
+LIVE_STATS = 'live.yaml'
+"""The live server's URL and, after the run, its statistics, in the run directory."""
 
 
 @dataclass
@@ -84,6 +87,10 @@ class RunOptions:
     title: str = ''
     lockstep_window: float = LOCKSTEP_WINDOW
     compose: bool = True
+    live: tuple[str, int] | None = None
+    """(host, port) of the live Foxglove WebSocket server in the recorder (:mod:`tether_bringup.live_server`)."""
+    live_wait: bool = False
+    """Start the clock only once a client has subscribed to the live server."""
 
 
 class _Stop(Exception):
@@ -133,7 +140,7 @@ def execute(nodes: list[NodeConfig], source, options: RunOptions) -> int:
                         'expected_nodes': [n.name for n in nodes] + ['tethersim'],
                         'exclude': list(options.exclude),
                         'stream_fd': stream[0] if stream else -1,
-                        'stream_nodes': [f'/{config.name}' for config in grouped]}),
+                        'stream_nodes': [f'/{config.name}' for config in grouped], **_live_parameters(options, out)}),
                           pass_fds=stream[:1] if stream else ())
         children.append(recorder)
         for config in nodes:
@@ -149,8 +156,16 @@ def execute(nodes: list[NodeConfig], source, options: RunOptions) -> int:
         waiting = f' and the external node(s) {", ".join(external)}' if external else ''
         _progress(f'{options.title}: {len(nodes) - len(external)} node(s) started in {len(children) - 1} process(es), '
                   f'waiting for the recorder{waiting} (ROS_DOMAIN_ID={env["ROS_DOMAIN_ID"]})')
-        _wait_for(lambda: ready_file.exists(), EXTERNAL_READY_TIMEOUT if external else READY_TIMEOUT, children,
-                  executor, lambda: 'the recorder did not subscribe to every node within {:.0f} s')
+        if options.live is not None:
+            _wait_for(lambda: (out / LIVE_STATS).exists(), READY_TIMEOUT, children, executor,
+                      lambda: 'the recorder did not start the live server within {:.0f} s')
+            _progress(f'{options.title}: live view on {yaml.safe_load((out / LIVE_STATS).read_text())["url"]}'
+                      + (': the clock starts once a client subscribes' if options.live_wait else ''))
+        _wait_for(lambda: ready_file.exists(),
+                  EXTERNAL_READY_TIMEOUT if external or options.live_wait else READY_TIMEOUT, children, executor,
+                  lambda: 'the recorder did not subscribe to every node' + (' and no live client subscribed'
+                                                                            if options.live_wait else '')
+                  + ' within {:.0f} s')
         expected = len(nodes) + 1
         _wait_for(lambda: source.clock_publisher.get_subscription_count() >= expected and source.matched(node),
                   CLOCK_SUBSCRIBER_TIMEOUT, children, executor,
@@ -188,6 +203,7 @@ def execute(nodes: list[NodeConfig], source, options: RunOptions) -> int:
 
     wall = time.monotonic() - wall_start
     lines = _summary(options, source, children, wall, failure, cpu, read_cpu(out / 'logs' / f'{GROUP_NAME}.cpu.yaml'))
+    lines += live_lines(out / LIVE_STATS) if options.live is not None else []
     if recorder is not None and recorder.returncode not in (0, None) and status == 0:
         status = 1
     bag_dir = out / 'bag'
@@ -211,6 +227,14 @@ def execute(nodes: list[NodeConfig], source, options: RunOptions) -> int:
     if failure:
         print(f'tethersim: error: {failure}', file=sys.stderr, flush=True)
     return status
+
+
+def _live_parameters(options: RunOptions, out: Path) -> dict:
+    """The recorder's parameters of the live server (none without one)."""
+    if options.live is None:
+        return {}
+    return {'live_host': options.live[0], 'live_port': options.live[1], 'live_stats_file': str(out / LIVE_STATS),
+            'live_wait': options.live_wait}
 
 
 def _bringup_program(name: str) -> str:

@@ -9,14 +9,19 @@ installed ones (``python -m tether_bringup`` runs it too).
 from __future__ import annotations
 
 import argparse
+import errno
+import socket
 import sys
 import time
 from pathlib import Path
 
 from tether_bringup.errors import TethersimError
+from tether_bringup.recorder_params import LIVE_HOST
+from tether_bringup.recorder_params import LIVE_PORT
 from tether_bringup.sim_clock import MAX_RATE
 from tether_common.command_line import Command
 from tether_common.command_line import OneLineParser
+from tether_common.command_line import UsageError
 from tether_common.command_line import dispatch
 from tether_common.command_line import installed_commands
 from tether_common.command_line import positive
@@ -45,11 +50,51 @@ def _add_network(parser: argparse.ArgumentParser) -> None:
                         help='DDS discovery range: localhost (default) or subnet to span machines')
 
 
+def _port(text: str) -> int:
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f'expected a TCP port, got {text!r} (give the scene before --live)') from None
+    if not 0 <= value <= 65535:
+        raise argparse.ArgumentTypeError(f'expected a TCP port in [0, 65535] (0: any free one), got {value}')
+    return value
+
+
+def _add_live(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument('--live', nargs='?', type=_port, const=LIVE_PORT, metavar='PORT',
+                        help=f'serve the recorded topics over the Foxglove WebSocket protocol while it runs, on '
+                             f'ws://HOST:PORT (default port {LIVE_PORT}; 0: any free one; see docs/live.md)')
+    parser.add_argument('--live-wait', action='store_true',
+                        help='with --live: start the clock only once a client has subscribed (watch from the start)')
+    parser.add_argument('--live-host', default=LIVE_HOST, metavar='HOST',
+                        help=f'address the live server listens on (default {LIVE_HOST}, this machine only)')
+
+
+def _live(args: argparse.Namespace) -> tuple[str, int] | None:
+    """The live server's (host, port), or None without --live; a port another program holds is a usage error."""
+    if args.live is None:
+        if args.live_host != LIVE_HOST or args.live_wait:
+            raise UsageError(f'{"--live-wait" if args.live_wait else "--live-host"} without --live: add --live [PORT]')
+        return None
+    if args.live:
+        try:
+            with socket.socket(socket.AF_INET6 if ':' in args.live_host else socket.AF_INET) as probe:
+                probe.setsockopt(socket.SOL_SOCKET, socket.SO_REUSEADDR, 1)  # as the server's own listener
+                probe.bind((args.live_host, args.live))
+        except OSError as error:
+            fix = 'give another port (--live PORT)' if error.errno == errno.EADDRINUSE else \
+                'give an address of this machine (--live-host)'
+            raise UsageError(f'--live: cannot listen on {args.live_host}:{args.live} ({error.strerror}); {fix}') \
+                from None
+    return args.live_host, args.live
+
+
 def _run_arguments(run: argparse.ArgumentParser) -> None:
     run.add_argument('scene', nargs='?', default='default', help='scene name (see `tethersim scenes`) or YAML file')
     run.add_argument('--duration', type=positive(), help='sim time to run, s (default: the scene\'s)')
     run.add_argument('--rate', type=_rate, help='real-time factor, or max: as fast as the slowest node (default: the scene\'s)')
     run.add_argument('--out', type=Path, help='run directory (default: runs/<scene>-<time>)')
+    _add_live(run)
     _add_network(run)
 
 
@@ -60,6 +105,7 @@ def _replay_arguments(replay: argparse.ArgumentParser) -> None:
     replay.add_argument('--scene', help='also run the nodes of this scene (e.g. an estimator under test)')
     replay.add_argument('--clock-step', type=positive(), default=0.01, help='s of bag time between /clock ticks')
     replay.add_argument('--out', type=Path, help='run directory (default: runs/replay-<time>)')
+    _add_live(replay)
     _add_network(replay)
 
 
@@ -95,7 +141,7 @@ def _run(args: argparse.Namespace) -> int:
         options = RunOptions(out_dir=args.out or _default_out(scene.name), domain_id=domain_id,
                              discovery=args.discovery, exclude=tuple(scene.exclude), reports=tuple(scene.reports),
                              title=f'tethersim run {scene.name}', lockstep_window=scene.lockstep_window,
-                             compose=scene.compose)
+                             compose=scene.compose, live=_live(args), live_wait=args.live_wait)
         return execute(scene.nodes, source, options)
 
 
@@ -131,7 +177,8 @@ def _replay(args: argparse.Namespace) -> int:
     with reserved_domain(args.domain_id) as domain_id:
         options = RunOptions(out_dir=args.out or _default_out(name), domain_id=domain_id,
                              discovery=args.discovery, exclude=tuple(exclude), reports=tuple(reports),
-                             title=f'tethersim replay {bag.path.name}', compose=compose)
+                             title=f'tethersim replay {bag.path.name}', compose=compose, live=_live(args),
+                             live_wait=args.live_wait)
         return execute(nodes, source, options)
 
 

@@ -23,6 +23,10 @@ topic once such a publisher appears (then volatile: the group's publishers would
 history, which the bag already holds). The recorder is
 ready once the group has announced its publishers; at shutdown it reads the stream to its
 end (the group has exited) before it finalizes the bag.
+
+With ``live_port``, it also serves what it writes over the Foxglove WebSocket protocol
+(:mod:`tether_bringup.live_server`); with ``live_wait`` it reports ready only once a client
+has subscribed there.
 """
 
 from __future__ import annotations
@@ -44,6 +48,8 @@ from tether_msgs.msg import LockstepAck
 from tether_bringup.bag_writer import BagWriter
 from tether_bringup.bag_writer import QosRecord
 from tether_bringup.cdr_stamp import stamp_reader
+from tether_bringup.live_server import LiveBag
+from tether_bringup.live_server import LiveServer
 from tether_bringup.recorder_params import PARAMETERS
 from tether_common.lockstep import ACK_TOPIC
 from tether_common.message_types import message_class
@@ -117,6 +123,9 @@ class Recorder(Node):
         super().__init__('recorder')
         self.params = declare_parameters(self, PARAMETERS)
         self.bag = BagWriter(self.params['bag_directory'], flush_period=self.params['flush_period'])
+        if self.params['live_port'] >= 0:
+            self.bag = LiveBag(self.bag, LiveServer(self.params['live_host'], self.params['live_port'],
+                                                    self.params['live_stats_file'], self.params['live_wait']))
         self.sim_time_ns = 0
         self._subscriptions_by_topic = {}
         self._last_change = time.monotonic()
@@ -146,7 +155,7 @@ class Recorder(Node):
 
     def discover(self) -> None:
         """Subscribe to new topics (or take them from the group's stream); report readiness once the graph has settled."""
-        waiting = False
+        waiting = isinstance(self.bag, LiveBag) and not self.bag.server.ready
         for topic, (type_name, count) in list(self._streamed.items()):
             if self.count_publishers(topic) != count:
                 waiting |= self._check_streamed(topic, type_name)

@@ -7,6 +7,11 @@ from tether_common.parameters import ParamSpec
 DEFAULT_EXCLUDE = ('/rosout', '/parameter_events')
 """Topics a run does not record unless its scene says otherwise: ROS's own log and parameter events."""
 
+LIVE_HOST = '127.0.0.1'
+"""The live server listens on this machine only unless asked for another address."""
+LIVE_PORT = 8765
+"""The Foxglove WebSocket protocol's usual port (foxglove_bridge's, the apps' default)."""
+
 PARAMETERS = (
     ParamSpec('bag_directory', 'bag', 'Directory of the rosbag2 bag to write (created)'),
     ParamSpec('exclude', list(DEFAULT_EXCLUDE), 'Topics not recorded'),
@@ -19,4 +24,9 @@ PARAMETERS = (
     ParamSpec('stream_fd', -1, 'Read end of the node group\'s recording stream (a pipe), -1 for none', '', -1, 65535),
     ParamSpec('stream_nodes', [], 'Fully qualified names of the node group\'s nodes, whose topics come from '
               'stream_fd', item_type=str),
+    ParamSpec('live_port', -1, 'Port of the live Foxglove WebSocket server (tether_bringup.live_server): -1 none, '
+              '0 any free one', '', -1, 65535),
+    ParamSpec('live_host', LIVE_HOST, 'Address the live server listens on'),
+    ParamSpec('live_wait', False, 'Report ready only once a client has subscribed to the live server'),
+    ParamSpec('live_stats_file', '', 'File the live server writes its URL to at start and its statistics at stop'),
 )
