@@ -250,7 +250,7 @@ def _node_config(path: Path, name: object, settings: object, fail) -> NodeConfig
     program = prefix / 'lib' / package / executable
     if not program.is_file():
         raise fail(f'{key}.executable', f'package {package} has no executable {executable!r}')
-    specs = _parameter_specs(package, executable)
+    specs = parameter_specs(package, executable)
     if specs is None:
         raise fail(f'{key}.executable', f'{package}/{executable} has no parameter specification '
                                         f'({package}.{executable}_params.PARAMETERS)')
@@ -269,7 +269,8 @@ def _node_config(path: Path, name: object, settings: object, fail) -> NodeConfig
                       package=package, executable=executable, external=external, lockstep=lockstep)
 
 
-def _parameter_specs(package: str, executable: str) -> tuple[ParamSpec, ...] | None:
+def parameter_specs(package: str, executable: str) -> tuple[ParamSpec, ...] | None:
+    """The declared parameters of a node (``<package>.<executable>_params.PARAMETERS``); None without them."""
     try:
         module = importlib.import_module(f'{package}.{executable}_params')
     except ModuleNotFoundError:

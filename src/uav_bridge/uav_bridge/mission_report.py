@@ -57,11 +57,13 @@ import yaml  # noqa: E402
 from tether_bringup.bag_reader import Bag  # noqa: E402
 from tether_bringup.bag_reader import BagError  # noqa: E402
 from tether_bringup.bag_reader import read_bag  # noqa: E402
+from tether_bringup.scene import parameter_specs  # noqa: E402
 from tether_common.command_line import Command  # noqa: E402
 from tether_common.command_line import UsageError  # noqa: E402
 from tether_common.command_line import analysis  # noqa: E402
 from tether_dynamics.plant_markers import reference_shape  # noqa: E402
 from tether_dynamics.statics.reference_length import reference_lengths  # noqa: E402
+from tether_common.rotation import quaternion_rotation  # noqa: E402
 from uav_bridge.report import ARRIVAL  # noqa: E402
 from uav_bridge.report import SETTLE  # noqa: E402
 from uav_bridge.report import THESIS_INDOOR  # noqa: E402
@@ -77,6 +79,8 @@ THESIS = {
 }
 SHAPE_POINTS = 11
 """Tether points compared with the reference shape (the thesis's 11 motion-capture markers)."""
+PAD_RADIUS = 0.5
+"""m, a touchdown this close to the pad's centre, horizontally, is on the pad (the mission's return tolerance)."""
 SAG = 0.1
 """m: the lowest point this far below the guide way counts as the tether sagging below the reel."""
 GUIDE_HEIGHT = 0.3
@@ -101,18 +105,26 @@ class Run:
     guide_height: float
     force: dict = field(default_factory=lambda: {c: np.zeros(0) for c in 'txyz'})   # tether on the UAV, N, world
     tether_model: str = 'none'  # the JSON physics' tether_model, or the plant's
+    max_tension: float = math.nan   # N, the reel's reel-in trip limit (params/reel.yaml), NaN when unknown
+    pad: np.ndarray | None = None   # (t, x, y, z): the built-in UAV's pad in world at each /platform/reel_pose
 
 
-def node_parameter(path: Path, node: str, name: str):
-    """A parameter of ``node`` from the run's ``params/<node>.yaml`` beside the bag; None without one."""
+def node_parameter(path: Path, node: str, name: str, declared: tuple[str, str] | None = None):
+    """A parameter of ``node`` from the run's ``params/<node>.yaml`` beside the bag; when the file does not set
+    it, the default ``declared`` (package, executable) declares, else None.
+    """
     start = path.resolve()
     for directory in (start, *start.parents[:2]):
         file = directory / 'params' / f'{node}.yaml'
         if file.is_file():
             try:
-                return yaml.safe_load(file.read_text())['/**']['ros__parameters'].get(name)
+                value = yaml.safe_load(file.read_text())['/**']['ros__parameters'].get(name)
             except (yaml.YAMLError, KeyError, TypeError, AttributeError):
                 return None
+            if value is None and declared is not None:
+                specs = {spec.name: spec for spec in parameter_specs(*declared) or ()}
+                value = specs[name].default if name in specs else None
+            return value
     return None
 
 
@@ -165,13 +177,31 @@ def load_run(path: str | Path) -> Run:
         force_topic = '/uav/tether_force' if '/uav/tether_force' in bag.topics else '/tether/uav_wrench'
         force = _series(bag, force_topic, {'x': lambda m: m.wrench.force.x, 'y': lambda m: m.wrench.force.y,
                                            'z': lambda m: m.wrench.force.z})
+        pad = _pad_track(bag, path)
     except BagError as error:
         raise UsageError(f'{path}: cannot read the bag: {error}') from None
     directory = path.resolve() if path.is_dir() else path.resolve().parent
     name = directory.parent.name if directory.name == 'bag' else directory.name
     model = node_parameter(path, 'json_physics', 'tether_model') or ('plant' if len(force['t']) else 'none')
+    limit = node_parameter(path, 'reel', 'max_tension', ('smart_reel', 'reel'))
     return Run(path, name, poses, phases, np.column_stack([heave['t'], heave['heave']]), nodes, tether, truth,
-               estimate, reel, trips, _guide_height(path), force, str(model))
+               estimate, reel, trips, _guide_height(path), force, str(model),
+               math.nan if limit is None else float(limit), pad)
+
+
+def _pad_track(bag: Bag, path: Path) -> np.ndarray | None:
+    """(t, x, y, z) of the built-in UAV's landing pad in world: its ``pad`` offset in ``boat`` carried by
+    ``/platform/reel_pose``; None when the run has no pad (another UAV, or ``ground`` not ``pad``).
+    """
+    if node_parameter(path, 'uav', 'ground', ('uav_bridge', 'builtin_uav')) != 'pad' or '/platform/reel_pose' not in bag.topics:
+        return None
+    offset = np.asarray(node_parameter(path, 'uav', 'pad', ('uav_bridge', 'builtin_uav')), dtype=float)
+    rows = []
+    for _, m in bag.decoded('/platform/reel_pose'):
+        p, q = m.pose.position, m.pose.orientation
+        rotation = quaternion_rotation(np.array([q.x, q.y, q.z, q.w]), '/platform/reel_pose orientation')
+        rows.append((_t(m), *(np.array([p.x, p.y, p.z]) + rotation.apply(offset))))
+    return np.array(rows, dtype=float).reshape(-1, 4)
 
 
 def cross_correlation(x: np.ndarray, y: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -209,6 +239,20 @@ def _events(flag: np.ndarray) -> int:
     return int(np.sum(flag[1:] & ~flag[:-1]) + (1 if len(flag) and flag[0] else 0))
 
 
+def _touchdown(run: Run) -> tuple[float, float] | None:
+    """(time, horizontal distance from the pad in m) where the mission's phase became ``landed``; the distance
+    is NaN without a pad track, and None when the mission never landed.
+    """
+    landed = next((t for t, phase, _, _ in run.phases if phase == 'landed'), None)
+    if landed is None or not run.poses.shape[0]:
+        return None
+    if run.pad is None or not run.pad.shape[0]:
+        return landed, math.nan
+    i = min(int(np.searchsorted(run.poses[:, 0], landed)), run.poses.shape[0] - 1)
+    j = min(int(np.searchsorted(run.pad[:, 0], landed)), run.pad.shape[0] - 1)
+    return landed, float(np.hypot(*(run.poses[i, 1:3] - run.pad[j, 1:3])))
+
+
 def analyse(run: Run) -> dict:
     """The figures of one run (see the module docstring for the definitions)."""
     result: dict = {'run': run}
@@ -226,6 +270,7 @@ def analyse(run: Run) -> dict:
         'tension_uav': float(run.tether['tension_uav'][landing].max()),
         'fouled_time': float(np.sum((run.tether['clearance_deck'][landing] + run.guide_height <= 0.0)
                                     | (run.tether['fouling'][landing] > 0.5)) * np.median(np.diff(run.tether['t'])))}
+    result['touchdown'] = _touchdown(run)
     tt = run.tether['t'][flying]
     deck = run.tether['clearance_deck'][flying] + run.guide_height
     fouled = (deck <= 0.0) | (run.tether['fouling'][flying] > 0.5)
@@ -339,9 +384,17 @@ def summary_lines(r: dict) -> list[str]:
                  f'{r["min_sea"]:.2f} m; reel safety trips {r["trips"]}')
     landing = r['landing_figures']
     if landing is not None:
+        limit = run.max_tension
+        beside = '' if math.isnan(limit) else (f' ({"under" if landing["tension_reel"] <= limit else "OVER"} the '
+                                               f'reel\'s {limit:g} N reel-in trip limit)')
         lines.append(f'  the landing from {r["landing"]:.1f} s: reel safety trips {landing["trips"]}, peak tension '
-                     f'{landing["tension_reel"]:.1f} N at the reel and {landing["tension_uav"]:.1f} N at the UAV, '
-                     f'{landing["fouled_time"]:.1f} s fouled')
+                     f'{landing["tension_reel"]:.1f} N at the reel{beside} and {landing["tension_uav"]:.1f} N at the '
+                     f'UAV, {landing["fouled_time"]:.1f} s fouled')
+    touchdown = r['touchdown']
+    if touchdown is not None:
+        where = ('' if math.isnan(touchdown[1])
+                 else f', {touchdown[1]:.2f} m from the pad ({"on" if touchdown[1] <= PAD_RADIUS else "OFF"} the pad)')
+        lines.append(f'  landed at {touchdown[0]:.1f} s{where}')
     return lines
 
 
