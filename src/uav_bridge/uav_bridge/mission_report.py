@@ -486,11 +486,16 @@ def plot(r: dict, out: Path) -> list[str]:
         fig, ax = plt.subplots(figsize=(11, 4))
         ax.plot(tt - t0, run.tether['clearance_deck'] + run.guide_height, lw=0.8, label='lowest point above deck')
         ax.plot(tt - t0, run.tether['clearance_sea'], lw=0.8, label='lowest point above sea')
-        ax.axhline(0.0, color='k', lw=0.8)
+        ax.axhline(0.0, color='k', lw=0.8, label='deck / sea: fouled at or below')
+        if math.isfinite(r['landing']):
+            ax.axvline(r['landing'] - t0, color='0.5', ls='--', lw=0.8, label='landing starts')
         ax.set_xlabel('t (s)')
         ax.set_ylabel('m')
         ax.legend(fontsize=8)
-        ax.set_title(f'fouling clearance: {r["fouling_events"]} events')
+        landing = r['landing_figures']
+        after = '' if landing is None else f'; the landing: {landing["fouled_time"]:.1f} s fouled'
+        ax.set_title(f'lowest point: {r["fouling_events"]} fouling events, {r["fouled_time"]:.1f} s fouled before '
+                     f'the landing{after}')
         fig.tight_layout()
         names.append(f'{run.name}_clearance.png')
         fig.savefig(out / names[-1], dpi=100)
