@@ -9,6 +9,7 @@ the Moog Animatics SM23165 family of Table 5.1), not measurements of the prototy
 from __future__ import annotations
 
 from tether_common.parameters import ParamSpec
+from tether_dynamics.clearance import GUIDE_HEIGHT
 
 PARAMETERS: tuple[ParamSpec, ...] = (
     ParamSpec('controller', 'catenary', 'length controller: catenary (Sec. 4.2), taut (constant torque, '
@@ -102,6 +103,6 @@ PARAMETERS: tuple[ParamSpec, ...] = (
               'deg', low=-90.0, high=90.0, read_only=True),
     ParamSpec('max_tension', 80.0, 'safety: stop reeling in when the tension estimate exceeds this', 'N',
               low=0.1, high=10000.0, read_only=True),
-    ParamSpec('guide_height', 0.3, 'guide way above the deck: the deck clearance is /tether/state '
+    ParamSpec('guide_height', GUIDE_HEIGHT, 'guide way above the deck: the deck clearance is /tether/state '
               'clearance_deck (below the guide way) plus this', 'm', low=0.0, high=10.0, read_only=True),
 )

@@ -52,14 +52,15 @@ import matplotlib
 matplotlib.use('Agg')
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
-import yaml  # noqa: E402
 
 from tether_bringup.bag_reader import Bag  # noqa: E402
 from tether_bringup.bag_reader import BagError  # noqa: E402
 from tether_bringup.bag_reader import read_bag  # noqa: E402
+from tether_bringup.run_params import node_parameter  # noqa: E402
 from tether_common.command_line import Command  # noqa: E402
 from tether_common.command_line import UsageError  # noqa: E402
 from tether_common.command_line import analysis  # noqa: E402
+from tether_dynamics.clearance import guide_height  # noqa: E402
 from tether_dynamics.plant_markers import reference_shape  # noqa: E402
 from tether_dynamics.statics.reference_length import reference_lengths  # noqa: E402
 from uav_bridge.report import ARRIVAL  # noqa: E402
@@ -79,8 +80,6 @@ SHAPE_POINTS = 11
 """Tether points compared with the reference shape (the thesis's 11 motion-capture markers)."""
 SAG = 0.1
 """m: the lowest point this far below the guide way counts as the tether sagging below the reel."""
-GUIDE_HEIGHT = 0.3
-"""m, the reel node's default ``guide_height`` (guide way above the deck), used when the run has no params/reel.yaml."""
 
 
 @dataclass
@@ -103,19 +102,6 @@ class Run:
     tether_model: str = 'none'  # the JSON physics' tether_model, or the plant's
 
 
-def node_parameter(path: Path, node: str, name: str):
-    """A parameter of ``node`` from the run's ``params/<node>.yaml`` beside the bag; None without one."""
-    start = path.resolve()
-    for directory in (start, *start.parents[:2]):
-        file = directory / 'params' / f'{node}.yaml'
-        if file.is_file():
-            try:
-                return yaml.safe_load(file.read_text())['/**']['ros__parameters'].get(name)
-            except (yaml.YAMLError, KeyError, TypeError, AttributeError):
-                return None
-    return None
-
-
 def _t(msg) -> float:
     return msg.header.stamp.sec + msg.header.stamp.nanosec * 1e-9
 
@@ -124,14 +110,6 @@ def _series(bag: Bag, topic: str, fields: dict) -> dict:
     rows = [(_t(m), *(f(m) for f in fields.values())) for _, m in bag.decoded(topic)] if topic in bag.topics else []
     array = np.array(rows, dtype=float).reshape(-1, len(fields) + 1)
     return {'t': array[:, 0], **{name: array[:, i + 1] for i, name in enumerate(fields)}}
-
-
-def _guide_height(path: Path) -> float:
-    value = node_parameter(path, 'reel', 'guide_height')
-    try:
-        return GUIDE_HEIGHT if value is None else float(value)
-    except (TypeError, ValueError):
-        return GUIDE_HEIGHT
 
 
 def load_run(path: str | Path) -> Run:
@@ -171,7 +149,7 @@ def load_run(path: str | Path) -> Run:
     name = directory.parent.name if directory.name == 'bag' else directory.name
     model = node_parameter(path, 'json_physics', 'tether_model') or ('plant' if len(force['t']) else 'none')
     return Run(path, name, poses, phases, np.column_stack([heave['t'], heave['heave']]), nodes, tether, truth,
-               estimate, reel, trips, _guide_height(path), force, str(model))
+               estimate, reel, trips, guide_height(path), force, str(model))
 
 
 def cross_correlation(x: np.ndarray, y: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -366,11 +344,12 @@ def plot(r: dict, out: Path) -> list[str]:
     if 'xcorr' in r:
         lags, corr = r['xcorr']
         axes[1].plot(lags, corr, lw=0.8)
-        for level in (THESIS['xcorr'], -THESIS['xcorr']):
-            axes[1].axhline(level, color='k', ls=':', lw=0.8)
+        for level, label in ((THESIS['xcorr'], f'thesis: |c| < {THESIS["xcorr"]} (Fig. 6.10b)'), (-THESIS['xcorr'], None)):
+            axes[1].axhline(level, color='k', ls=':', lw=0.8, label=label)
         axes[1].set_ylim(-1, 1)
+        axes[1].legend(loc='upper right', fontsize=8)
     axes[1].set_xlabel('lag (s)')
-    axes[1].set_title('normalised cross-correlation')
+    axes[1].set_title('UAV altitude vs platform heave: normalised cross-correlation')
     axes[2].plot(run.poses[:, 1], run.poses[:, 2], lw=0.8)
     if r['interval'] is not None:
         station = r['station']
@@ -431,7 +410,8 @@ def plot(r: dict, out: Path) -> list[str]:
     tt = run.tether['t']
     if len(tt):
         fig, ax = plt.subplots(figsize=(11, 4))
-        ax.plot(tt - t0, run.tether['clearance_deck'] + run.guide_height, lw=0.8, label='lowest point above deck')
+        ax.plot(tt - t0, run.tether['clearance_deck'] + run.guide_height, lw=0.8,
+                label=f'lowest point above the deck (guide way {run.guide_height:.2f} m above it)')
         ax.plot(tt - t0, run.tether['clearance_sea'], lw=0.8, label='lowest point above sea')
         ax.axhline(0.0, color='k', lw=0.8)
         ax.set_xlabel('t (s)')
