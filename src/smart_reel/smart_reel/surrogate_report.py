@@ -308,8 +308,9 @@ def _plots(out: Path, by_mode: dict[str, tuple[Run, dict]]) -> None:
             axes[1].plot(run.reel['t'] - r['t'][0], np.degrees(run.reel['arm']), color=colors[mode],
                          label='guide-arm reading')
             axes[1].plot(t, np.degrees(r['alpha_theory']), 'k:', label='catenary theory')
-            axes[2].plot(r['lags'], r['corr'], color=colors[mode])
-            axes[2].axvline(r['departure_lag'], color='k', lw=0.6)
+            axes[2].plot(r['lags'], r['corr'], color=colors[mode], label='guide-arm reading vs theory')
+            axes[2].axvline(r['departure_lag'], color='k', lw=0.6, label=f'peak: lag {r["departure_lag"]:.2f} s')
+            axes[2].legend(fontsize=8, loc='upper right')
     axes[0].set_ylabel('arrival angle (deg)')
     axes[0].legend(fontsize=8, loc='upper right')
     axes[0].set_title('Arrival angle (cf. Fig. 6.2) and departure angle with the guide-arm dead-band (cf. Fig. 6.3)')
