@@ -3,8 +3,8 @@
 - every relative link of README.md and docs/*.md names a file of the checkout, and an anchor
   a heading of that file;
 - every ``tethersim`` command in a fenced ``sh`` block of the README is one that
-  ``tethersim --help`` lists (with its subcommand in ``tethersim COMMAND --help``), every
-  ``make`` target one the Makefile has;
+  ``tethersim --help`` lists (with its subcommand in ``tethersim COMMAND --help``, and each
+  of its options in the command's help), every ``make`` target one the Makefile has;
 - the quickstart's replay line runs as written (but for ``--out``);
 - the generated blocks of deterministic results are what their commands print now
   (``tools/docs.py --check``): the scene table and the estimator evaluation from the
@@ -61,7 +61,9 @@ def sh_commands(path: Path) -> list[list[str]]:
         if language != 'sh':
             continue
         for line in body.replace('\\\n', ' ').splitlines():
-            words = shlex.split(line, comments=True)
+            lexer = shlex.shlex(line, posix=True, punctuation_chars=True)
+            lexer.whitespace_split = True
+            words = list(lexer)
             command: list[str] = []
             for word in [*words, ';']:
                 if word in (';', '&&', '||', '|', 'do', 'then', 'done'):
@@ -96,10 +98,11 @@ def test_the_docs_have_links_and_the_readme_sh_blocks_have_commands():
     assert sum(c[0] in ('./tethersim', 'tethersim') for c in sh_commands(ROOT / 'README.md')) >= 5
 
 
-def test_every_command_of_the_readme_sh_blocks_is_in_tethersim_help():
+def test_every_command_and_option_of_the_readme_sh_blocks_is_in_tethersim_help():
     commands = [c for c in sh_commands(ROOT / 'README.md') if c[0] in ('./tethersim', 'tethersim', 'make')]
     top = tethersim('--help', check=True).stdout
-    known, sub_help = _listed(top), {}
+    known: set[str] = _listed(top)
+    sub_help: dict = {}
     phony = set(re.search(r'^\.PHONY:(.*)$', (ROOT / 'Makefile').read_text(), re.M)[1].split())
     missing = []
     for command in commands:
@@ -115,6 +118,11 @@ def test_every_command_of_the_readme_sh_blocks_is_in_tethersim_help():
         subcommands = _listed(sub_help[name])
         if subcommands and (len(command) < 3 or command[2] not in subcommands):
             missing.append(' '.join(command[:3]))
+            continue
+        path = tuple(command[1:3] if subcommands else command[1:2])
+        if path not in sub_help:
+            sub_help[path] = tethersim(*path, '--help', check=True).stdout
+        missing += [f'{" ".join(path)} {word}' for word in command if word.startswith('--') and word not in sub_help[path]]
     assert not missing, f'README sh blocks name commands tethersim --help does not list: {missing}'
 
 

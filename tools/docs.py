@@ -144,6 +144,21 @@ def surrogate(work: Work) -> str:
     return '\n'.join(blocks)
 
 
+def _report_lines(summary: list[str]) -> list[str]:
+    """The scene's report lines of a run summary: after the bag's topic table, without the plot list."""
+    start = next(i for i, line in enumerate(summary) if line.startswith(BAG_MARK)) + 3
+    while start < len(summary) and summary[start].startswith('/'):
+        start += 1
+    return [line for line in summary[start:] if not line.startswith('plot: ')]
+
+
+def surrogate_estimator(work: Work) -> str:
+    """The reports of a full run of ``surrogate_estimator``: the estimate-fed reel beside Table 6.2."""
+    summary = (work.run('surrogate_estimator') / 'summary.txt').read_text(encoding='utf-8').splitlines()
+    return _fenced('./tethersim run surrogate_estimator --rate max --out runs/surrogate_estimator   # summary.txt, '
+                   'reports', work.shown('\n'.join(_report_lines(summary))))
+
+
 def estimator(work: Work) -> str:
     """``tethersim estimator evaluate`` over the reference bags kept for evaluation."""
     out = work.directory / 'estimator-evaluate'
@@ -201,6 +216,7 @@ GENERATORS = {
     'timing': Generator(timing, False),
     'surrogate': Generator(surrogate, True),
     'estimator': Generator(estimator, True),
+    'surrogate-estimator': Generator(surrogate_estimator, True),
 }
 
 
