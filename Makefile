@@ -14,7 +14,7 @@ export AMENT_PREFIX_PATH := $(CURDIR)/$(VENV)
 
 PKG_SOURCES := $(shell find src -type f \( -name '*.msg' -o -name 'CMakeLists.txt' -o -name 'package.xml' -o -name 'setup.py' -o -name 'setup.cfg' -o -path '*/scenes/*' \) 2>/dev/null)
 
-.PHONY: setup build run test lint bench clean live-client
+.PHONY: setup build run test lint bench docs clean live-client
 
 setup: $(STAMP_BUILD)
 
@@ -55,6 +55,10 @@ lint: $(STAMP_VENV)
 
 bench: $(STAMP_BUILD)
 	@for bench in bench/*/run.py; do echo "== $$bench"; ./tethersim-env python $$bench || exit 1; done
+
+# the docs' result blocks and picture from the commands that produce them (tools/docs.py; ARGS: block names)
+docs: $(STAMP_BUILD)
+	./tethersim-env python tools/docs.py $(ARGS)
 
 clean:
 	rm -rf build install log $(VENV) $(LIVE_CLIENT)/node_modules

@@ -32,7 +32,7 @@ def _read_states(bag_path: Path) -> np.ndarray:
 
 
 def tracking_report(bag_path: str, out_dir: str) -> list[str]:
-    """Plot commanded vs. achieved roll, pitch (REP-103), heave from /platform/state; return RMS error lines.
+    """Plot commanded vs. achieved roll, pitch (REP-103), heave from /platform/state and the error; return RMS lines.
 
     Args:
         bag_path: the run's rosbag2 MCAP file (or its directory).
@@ -49,16 +49,25 @@ def tracking_report(bag_path: str, out_dir: str) -> list[str]:
     t = data[:, 0] - data[0, 0]
     error = data[:, 1:4] - data[:, 4:7]
     rms = np.sqrt(np.mean(error**2, axis=0))
-    fig, axes = plt.subplots(3, 1, figsize=(10, 8), sharex=True)
-    for ax, i, label, scale in ((axes[0], 0, 'heave (m)', 1.0), (axes[1], 1, 'roll (deg, REP-103)', np.degrees(1.0)),
-                                (axes[2], 2, 'pitch (deg, REP-103)', np.degrees(1.0))):
+    fig, axes = plt.subplots(3, 2, figsize=(13, 8), sharex=True)
+    rows = ((0, 'heave', 'm', 1.0, 'mm', 1000.0), (1, 'roll', 'deg, REP-103', np.degrees(1.0), 'deg', np.degrees(1.0)),
+            (2, 'pitch', 'deg, REP-103', np.degrees(1.0), 'deg', np.degrees(1.0)))
+    for i, name, unit, scale, error_unit, error_scale in rows:
+        ax, ax_error = axes[i]
         ax.plot(t, data[:, 4 + i] * scale, color='tab:blue', lw=1.2, label='commanded')
         ax.plot(t, data[:, 1 + i] * scale, color='tab:red', lw=0.8, ls='--', label='achieved')
-        ax.set_ylabel(label)
-        ax.grid(alpha=0.3)
-    axes[0].legend(loc='upper right')
-    axes[-1].set_xlabel('time (s)')
-    fig.suptitle('3-PSR platform: commanded vs. achieved (cf. Fig. 2.7)')
+        ax.set_ylabel(f'{name} ({unit})')
+        ax_error.plot(t, error[:, i] * error_scale, color='tab:purple', lw=0.8)
+        ax_error.axhline(0.0, color='k', lw=0.6)
+        ax_error.set_ylabel(f'{name} error ({error_unit})')
+        for a in (ax, ax_error):
+            a.grid(alpha=0.3)
+    axes[0, 0].legend(loc='upper right')
+    axes[0, 0].set_title('commanded and achieved')
+    axes[0, 1].set_title('achieved minus commanded')
+    for a in axes[-1]:
+        a.set_xlabel('time (s)')
+    fig.suptitle('3-PSR platform tracking (cf. Fig. 2.7)')
     fig.tight_layout()
     fig.savefig(out / 'platform_tracking.png', dpi=110)
     plt.close(fig)

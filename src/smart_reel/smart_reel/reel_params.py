@@ -9,6 +9,7 @@ the Moog Animatics SM23165 family of Table 5.1), not measurements of the prototy
 from __future__ import annotations
 
 from tether_common.parameters import ParamSpec
+from tether_dynamics.clearance import GUIDE_HEIGHT
 
 PARAMETERS: tuple[ParamSpec, ...] = (
     ParamSpec('controller', 'catenary', 'length controller: catenary (Sec. 4.2), taut (constant torque, '
@@ -109,6 +110,6 @@ PARAMETERS: tuple[ParamSpec, ...] = (
               'band (the lowest point on the deck or the water, a reading half the arm\'s dead band below its '
               'limit, a tension 20 N over it); 0: every tick past a limit trips (smart_reel.safety)', 's',
               low=0.0, high=10.0, read_only=True),
-    ParamSpec('guide_height', 0.3, 'guide way above the deck: the deck clearance is /tether/state '
+    ParamSpec('guide_height', GUIDE_HEIGHT, 'guide way above the deck: the deck clearance is /tether/state '
               'clearance_deck (below the guide way) plus this', 'm', low=0.0, high=10.0, read_only=True),
 )

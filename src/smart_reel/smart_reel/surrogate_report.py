@@ -9,8 +9,9 @@ recognised by the reel mode it recorded) and writes:
 * ``surrogate_angles.png`` (Fig. 6.2, 6.3): arrival angle measured vs the catenary theory
   for the measured length and relative position, and the guide-arm reading with its
   dead-band vs the theoretical departure angle, with their normalised cross-correlation;
-* ``surrogate_tension.png`` (Fig. 6.4): tension at the UAV end, catenary vs taut;
-* ``surrogate_clearance.png``: lowest point above deck and sea, with fouling, per run;
+* ``surrogate_tension.png`` (Fig. 6.4): tension at the UAV end of each run given (the thesis: catenary vs taut);
+* ``surrogate_clearance.png``: lowest point above the deck and the sea, per run
+  (:mod:`tether_dynamics.clearance`: the deck is the reel's ``guide_height`` below the guide way);
 * ``summary.txt``: the table beside the thesis's numbers and the issue's acceptance checks.
 
 Definitions (each as in the thesis where it says): length error = encoder length
@@ -39,13 +40,13 @@ from tether_bringup.errors import BagError
 from tether_common.command_line import Command
 from tether_common.command_line import UsageError
 from tether_common.command_line import analysis
+from tether_dynamics.clearance import above_deck
+from tether_dynamics.clearance import guide_height
 from tether_dynamics.statics.catenary import solve
 from tether_dynamics.statics.reference_length import reference_lengths
 
 SETTLE = 10.0
 """s skipped at the start of each run by default."""
-GUIDE_HEIGHT = 0.3
-"""m, guide way above the deck (the reel node's default ``guide_height``)."""
 THESIS = {
     'length_mean': 0.022, 'length_rmse': 0.028, 'tension_catenary': (2.38, 0.27, 2.21),
     'tension_taut': (27.52, 7.30, 55.70), 'arrival_error': 2.1, 'departure_lag': 0.88,
@@ -178,10 +179,10 @@ def analyse(run: Run, settle: float | None = None) -> dict:
     alpha_theory = _on(t, theory.alpha, arm_t[arm_keep])
     lag, lags, corr = (_lag(arm_t[arm_keep], run.reel['arm'][arm_keep], alpha_theory)
                        if arm_keep.sum() > 10 else (math.nan, np.zeros(0), np.zeros(0)))
-    deck = run.tether['clearance_deck'] + GUIDE_HEIGHT
+    deck = above_deck(run.tether['clearance_deck'], guide_height(run.path))
     fouled = (deck < 0.0) | (run.tether['fouling'] > 0.5)
     return {
-        't': t, 'model': model, 'measured': measured, 'error': error, 'keep': keep, 'tension': tension,
+        't': t, 'deck': deck, 'model': model, 'measured': measured, 'error': error, 'keep': keep, 'tension': tension,
         'beta_theory': theory.beta, 'alpha_theory': theory.alpha, 'lags': lags, 'corr': corr,
         'length_mean': float(np.mean(error[keep])), 'length_rmse': float(np.sqrt(np.mean(error[keep] ** 2))),
         'tension_stats': (float(np.mean(tension[keep])), float(np.std(tension[keep])), float(np.ptp(tension[keep]))),
@@ -307,8 +308,9 @@ def _plots(out: Path, by_mode: dict[str, tuple[Run, dict]]) -> None:
             axes[1].plot(run.reel['t'] - r['t'][0], np.degrees(run.reel['arm']), color=colors[mode],
                          label='guide-arm reading')
             axes[1].plot(t, np.degrees(r['alpha_theory']), 'k:', label='catenary theory')
-            axes[2].plot(r['lags'], r['corr'], color=colors[mode])
-            axes[2].axvline(r['departure_lag'], color='k', lw=0.6)
+            axes[2].plot(r['lags'], r['corr'], color=colors[mode], label='guide-arm reading vs theory')
+            axes[2].axvline(r['departure_lag'], color='k', lw=0.6, label=f'peak: lag {r["departure_lag"]:.2f} s')
+            axes[2].legend(fontsize=8, loc='upper right')
     axes[0].set_ylabel('arrival angle (deg)')
     axes[0].legend(fontsize=8, loc='upper right')
     axes[0].set_title('Arrival angle (cf. Fig. 6.2) and departure angle with the guide-arm dead-band (cf. Fig. 6.3)')
@@ -327,7 +329,7 @@ def _plots(out: Path, by_mode: dict[str, tuple[Run, dict]]) -> None:
     ax.set_yscale('log')
     ax.set_ylabel('tension at the UAV (N)')
     ax.set_xlabel('t (s)')
-    ax.set_title('Tether tension at the UAV surrogate, catenary vs taut (cf. Fig. 6.4)')
+    ax.set_title(f'Tether tension at the UAV surrogate: {", ".join(by_mode)} (cf. Fig. 6.4)')
     ax.legend(loc='upper right')
     fig.tight_layout()
     fig.savefig(out / 'surrogate_tension.png', dpi=100)
@@ -336,12 +338,12 @@ def _plots(out: Path, by_mode: dict[str, tuple[Run, dict]]) -> None:
     fig, ax = plt.subplots(figsize=(11, 4.5))
     for mode, (run, r) in by_mode.items():  # noqa: B007 - the last run also labels the figure below
         t = r['t'] - r['t'][0]
-        ax.plot(t, run.tether['clearance_deck'] + GUIDE_HEIGHT, color=colors[mode], label=f'{mode}: above deck')
+        ax.plot(t, r['deck'], color=colors[mode], label=f'{mode}: above the deck')
         ax.plot(t, run.tether['clearance_sea'], color=colors[mode], ls='--', label=f'{mode}: above sea')
     ax.axhline(0.0, color='k', lw=0.8)
     ax.set_ylabel('lowest point clearance (m)')
     ax.set_xlabel('t (s)')
-    ax.set_title('Fouling clearance of the lowest point')
+    ax.set_title('Fouling clearance of the lowest point (deck: the reel\'s guide_height below the guide way)')
     ax.legend(fontsize=8, loc='upper right')
     fig.tight_layout()
     fig.savefig(out / 'surrogate_clearance.png', dpi=100)

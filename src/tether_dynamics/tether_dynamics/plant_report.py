@@ -11,6 +11,12 @@ rate) and writes
 * ``tether_clearance.png``: deployed against reference length, and the lowest point's
   clearance above the deck and the sea with the fouling steps marked.
 
+Clearances are above the deck, the datum of every report (:mod:`tether_dynamics.clearance`:
+the plant's ``clearance_deck`` plus the run's reel ``guide_height``). The element count is
+the plant's ``elements`` parameter; with the moving reel the FEM splits the element at the
+guide way as it pays out and merges it as it reels in, so the count varies about it, and
+the summary gives its range.
+
 The summary lines put the run's numbers beside the thesis's UAV-surrogate results
 (Sec. 6.1: length error, arrival-angle error, tension 2.38 ± 0.27 N).
 """
@@ -27,6 +33,9 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
 from tether_bringup.bag_reader import read_bag  # noqa: E402
+from tether_bringup.run_params import node_parameter  # noqa: E402
+from tether_dynamics.clearance import above_deck  # noqa: E402
+from tether_dynamics.clearance import guide_height  # noqa: E402
 from tether_dynamics.statics.catenary import solve  # noqa: E402
 from tether_dynamics.plant_markers import reference_shape  # noqa: E402
 from tether_dynamics.statics.reference_length import reference_lengths  # noqa: E402
@@ -54,11 +63,13 @@ class TetherRun:
     tension_uav: np.ndarray
     departure: np.ndarray
     arrival: np.ndarray
-    clearance_deck: np.ndarray
+    deck: np.ndarray
     clearance_sea: np.ndarray
     fouling: np.ndarray
     fidelity: str
     elements: int
+    element_range: tuple[int, int]
+    guide_height: float
     node_t: np.ndarray
     nodes: list[np.ndarray]
 
@@ -73,22 +84,27 @@ def read_run(bag_path: Path) -> TetherRun:
     Raises:
         tether_bringup.errors.BagError: the bag cannot be read.
     """
-    rows, node_t, nodes, fidelity, elements = [], [], [], '', 0
+    rows, node_t, nodes, fidelity, counts = [], [], [], '', set()
     bag = read_bag(bag_path)
     for _, m in bag.decoded(NODES, required=False):
         node_t.append(_seconds(m.header.stamp))
         nodes.append(np.array([(p.x, p.y, p.z) for p in m.positions]).reshape(-1, 3))
     for _, m in bag.decoded(STATE, required=False):
-        fidelity, elements = m.fidelity, m.element_count
+        fidelity = m.fidelity
+        counts.add(m.element_count)
         rows.append((_seconds(m.header.stamp), m.reel_end.x, m.reel_end.y, m.reel_end.z,
                      m.uav_end.x, m.uav_end.y, m.uav_end.z, m.deployed_length, m.tension_reel,
                      m.tension_uav, m.departure_angle, m.arrival_angle, m.clearance_deck,
                      m.clearance_sea, float(m.fouling)))
     a = np.array(rows, dtype=float).reshape(-1, 15)
+    height = guide_height(bag_path)
+    elements = node_parameter(bag_path, 'plant', 'elements')
+    element_range = (min(counts), max(counts)) if counts else (0, 0)
     return TetherRun(t=a[:, 0], reel_end=a[:, 1:4], uav_end=a[:, 4:7], length=a[:, 7], tension_reel=a[:, 8],
-                     tension_uav=a[:, 9], departure=a[:, 10], arrival=a[:, 11], clearance_deck=a[:, 12],
-                     clearance_sea=a[:, 13], fouling=a[:, 14] > 0.5, fidelity=fidelity, elements=elements,
-                     node_t=np.array(node_t), nodes=nodes)
+                     tension_uav=a[:, 9], departure=a[:, 10], arrival=a[:, 11], deck=above_deck(a[:, 12], height),
+                     clearance_sea=a[:, 13], fouling=a[:, 14] > 0.5, fidelity=fidelity,
+                     elements=int(elements) if isinstance(elements, int) else element_range[1],
+                     element_range=element_range, guide_height=height, node_t=np.array(node_t), nodes=nodes)
 
 
 def _reference(run: TetherRun):
@@ -108,7 +124,14 @@ def _plane(points: np.ndarray, origin: np.ndarray, end: np.ndarray) -> tuple[np.
 
 
 def _model(run: TetherRun) -> str:
-    return f'{run.fidelity}, {run.elements} elements' if run.elements else run.fidelity
+    """The fidelity and element count; a count that varied is given as the range the moving reel made."""
+    if not run.elements or run.fidelity == 'quasi_static':
+        return run.fidelity
+    low, high = run.element_range
+    if low == high == run.elements:
+        return f'{run.fidelity}, {run.elements} elements'
+    return (f'{run.fidelity}, {run.elements} elements set, {low}-{high} over the run as the moving reel splits '
+            'and merges the element at the guide way')
 
 
 def _plot_snapshots(run: TetherRun, out: Path) -> None:
@@ -178,7 +201,8 @@ def _plot_clearance(run: TetherRun, reference_length: np.ndarray, out: Path) -> 
     axes[0].plot(t, run.length, color='tab:orange', lw=1.2, label='deployed')
     axes[0].plot(t, reference_length, color='k', lw=0.8, ls='--', label='reference (Eq. 4.4/4.5)')
     axes[0].set_ylabel('tether length (m)')
-    axes[1].plot(t, run.clearance_deck, color='tab:brown', lw=1.0, label='lowest point above the deck')
+    axes[1].plot(t, run.deck, color='tab:brown', lw=1.0,
+                 label=f'lowest point above the deck (guide way {run.guide_height:.2f} m above it)')
     axes[1].plot(t, run.clearance_sea, color='tab:cyan', lw=1.0, label='lowest point above the sea')
     axes[1].axhline(0.0, color='k', lw=0.6)
     if run.fouling.any():
@@ -231,7 +255,8 @@ def tether_report(bag_path: str, out_dir: str) -> list[str]:
         f'tether: arrival angle minus reference catenary mean {arrival_error.mean():+.2f} deg, mean |error| '
         f'{np.abs(arrival_error).mean():.2f} deg (thesis, measured against theory: {THESIS_ARRIVAL_ERROR} deg); '
         f'departure angle {np.degrees(run.departure.min()):+.1f}..{np.degrees(run.departure.max()):+.1f} deg',
-        f'tether: lowest point at least {run.clearance_deck.min():.2f} m above the deck and '
+        f'tether: lowest point at least {run.deck.min():.2f} m above the deck (the guide way is '
+        f'{run.guide_height:.2f} m above it) and '
         f'{run.clearance_sea.min():.2f} m above the sea; fouling in {run.fouling.mean() * 100:.1f} % of steps',
     ]
     return lines

@@ -52,15 +52,15 @@ import matplotlib
 matplotlib.use('Agg')
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
-import yaml  # noqa: E402
 
 from tether_bringup.bag_reader import Bag  # noqa: E402
 from tether_bringup.bag_reader import BagError  # noqa: E402
 from tether_bringup.bag_reader import read_bag  # noqa: E402
-from tether_bringup.scene import parameter_specs  # noqa: E402
+from tether_bringup.run_params import node_parameter  # noqa: E402
 from tether_common.command_line import Command  # noqa: E402
 from tether_common.command_line import UsageError  # noqa: E402
 from tether_common.command_line import analysis  # noqa: E402
+from tether_dynamics.clearance import guide_height  # noqa: E402
 from tether_dynamics.plant_markers import reference_shape  # noqa: E402
 from tether_dynamics.statics.reference_length import reference_lengths  # noqa: E402
 from tether_common.rotation import quaternion_rotation  # noqa: E402
@@ -83,8 +83,6 @@ PAD_RADIUS = 0.5
 """m, a touchdown this close to the pad's centre, horizontally, is on the pad (the mission's return tolerance)."""
 SAG = 0.1
 """m: the lowest point this far below the guide way counts as the tether sagging below the reel."""
-GUIDE_HEIGHT = 0.3
-"""m, the reel node's default ``guide_height`` (guide way above the deck), used when the run has no params/reel.yaml."""
 
 
 @dataclass
@@ -109,25 +107,6 @@ class Run:
     pad: np.ndarray | None = None   # (t, x, y, z): the built-in UAV's pad in world at each /platform/reel_pose
 
 
-def node_parameter(path: Path, node: str, name: str, declared: tuple[str, str] | None = None):
-    """A parameter of ``node`` from the run's ``params/<node>.yaml`` beside the bag; when the file does not set
-    it, the default ``declared`` (package, executable) declares, else None.
-    """
-    start = path.resolve()
-    for directory in (start, *start.parents[:2]):
-        file = directory / 'params' / f'{node}.yaml'
-        if file.is_file():
-            try:
-                value = yaml.safe_load(file.read_text())['/**']['ros__parameters'].get(name)
-            except (yaml.YAMLError, KeyError, TypeError, AttributeError):
-                return None
-            if value is None and declared is not None:
-                specs = {spec.name: spec for spec in parameter_specs(*declared) or ()}
-                value = specs[name].default if name in specs else None
-            return value
-    return None
-
-
 def _t(msg) -> float:
     return msg.header.stamp.sec + msg.header.stamp.nanosec * 1e-9
 
@@ -136,14 +115,6 @@ def _series(bag: Bag, topic: str, fields: dict) -> dict:
     rows = [(_t(m), *(f(m) for f in fields.values())) for _, m in bag.decoded(topic)] if topic in bag.topics else []
     array = np.array(rows, dtype=float).reshape(-1, len(fields) + 1)
     return {'t': array[:, 0], **{name: array[:, i + 1] for i, name in enumerate(fields)}}
-
-
-def _guide_height(path: Path) -> float:
-    value = node_parameter(path, 'reel', 'guide_height')
-    try:
-        return GUIDE_HEIGHT if value is None else float(value)
-    except (TypeError, ValueError):
-        return GUIDE_HEIGHT
 
 
 def load_run(path: str | Path) -> Run:
@@ -185,7 +156,7 @@ def load_run(path: str | Path) -> Run:
     model = node_parameter(path, 'json_physics', 'tether_model') or ('plant' if len(force['t']) else 'none')
     limit = node_parameter(path, 'reel', 'max_tension', ('smart_reel', 'reel'))
     return Run(path, name, poses, phases, np.column_stack([heave['t'], heave['heave']]), nodes, tether, truth,
-               estimate, reel, trips, _guide_height(path), force, str(model),
+               estimate, reel, trips, guide_height(path), force, str(model),
                math.nan if limit is None else float(limit), pad)
 
 
@@ -419,11 +390,12 @@ def plot(r: dict, out: Path) -> list[str]:
     if 'xcorr' in r:
         lags, corr = r['xcorr']
         axes[1].plot(lags, corr, lw=0.8)
-        for level in (THESIS['xcorr'], -THESIS['xcorr']):
-            axes[1].axhline(level, color='k', ls=':', lw=0.8)
+        for level, label in ((THESIS['xcorr'], f'thesis: |c| < {THESIS["xcorr"]} (Fig. 6.10b)'), (-THESIS['xcorr'], None)):
+            axes[1].axhline(level, color='k', ls=':', lw=0.8, label=label)
         axes[1].set_ylim(-1, 1)
+        axes[1].legend(loc='upper right', fontsize=8)
     axes[1].set_xlabel('lag (s)')
-    axes[1].set_title('normalised cross-correlation')
+    axes[1].set_title('UAV altitude vs platform heave: normalised cross-correlation')
     axes[2].plot(run.poses[:, 1], run.poses[:, 2], lw=0.8)
     if r['interval'] is not None:
         station = r['station']
@@ -484,7 +456,8 @@ def plot(r: dict, out: Path) -> list[str]:
     tt = run.tether['t']
     if len(tt):
         fig, ax = plt.subplots(figsize=(11, 4))
-        ax.plot(tt - t0, run.tether['clearance_deck'] + run.guide_height, lw=0.8, label='lowest point above deck')
+        ax.plot(tt - t0, run.tether['clearance_deck'] + run.guide_height, lw=0.8,
+                label=f'lowest point above the deck (guide way {run.guide_height:.2f} m above it)')
         ax.plot(tt - t0, run.tether['clearance_sea'], lw=0.8, label='lowest point above sea')
         ax.axhline(0.0, color='k', lw=0.8, label='deck / sea: fouled at or below')
         if math.isfinite(r['landing']):

@@ -25,9 +25,10 @@ Contract:
       local sea surface height m (0 when the scene has no waves).
     * :class:`PlantOutputs` - see its docstring: ends, deployed length, payout and spool rate,
       spool angle, tensions and 3-D forces at both ends (and the moment about the UAV's centre
-      of mass), departure and arrival angles, lowest point with its clearance above the deck
-      (the platform origin's height) and above the sea surface, fouling flag (lowest point at or
-      below the sea), kinetic / potential / strain energy, the motor's work, the conserved total
+      of mass), departure and arrival angles, lowest point with its clearance above the guide
+      way (``clearance_deck``; the reports add the reel's guide_height to give the clearance
+      above the deck: :mod:`tether_dynamics.clearance`) and above the sea surface, fouling
+      flag (lowest point at or below the sea), kinetic / potential / strain energy, the motor's work, the conserved total
       tether mass, node positions and velocities from reel to UAV, element tensions, arc length
       of the nodes from the guide way, largest strain, and the UAV's state.
 
