@@ -141,7 +141,7 @@ class Campaign:
                         if spec_key in keys), None)
         if section is None:
             return f'{self.path}: scene {self.scene_path}: {detail}'
-        return f'{self.path}: {section}.{spec_key}: {reason} (run {index}: {values[spec_key]!r})'
+        return f'{self.path}: {section}.{spec_key}: {reason} (run {index})'
 
     def run_name(self, index: int) -> str:
         """The name of run ``index``'s directory."""
