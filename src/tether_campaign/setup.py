@@ -23,5 +23,8 @@ setup(
         'tethersim.commands': [
             'sweep = tether_campaign.cli:SWEEP',
         ],
+        'tethersim.reports': [
+            'campaign = tether_campaign.report:COMMAND',
+        ],
     },
 )

@@ -94,7 +94,8 @@ def _prepare(campaign: Campaign, options: SweepOptions) -> str:
     else:
         out.mkdir(parents=True, exist_ok=True)
         state.write_text(yaml.safe_dump({'spec': str(campaign.path.resolve()), 'scene': str(campaign.scene_path),
-                                         'runs': campaign.size, 'fingerprint': marks,
+                                         'runs': campaign.size, 'factors': campaign.factors,
+                                         'grid': list(campaign.grid), 'fingerprint': marks,
                                          'spec_text': campaign.path.read_text()}, sort_keys=False))
     token = secrets.token_hex(16)
     (out / TOKEN_FILE).write_text(token + '\n')
