@@ -16,6 +16,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
 from tether_bringup.bag_reader import read_bag  # noqa: E402
+from tether_common.report_figures import ReportLines  # noqa: E402
 
 TOPIC = '/platform/state'
 
@@ -31,8 +32,9 @@ def _read_states(bag_path: Path) -> np.ndarray:
     return np.array(rows, dtype=float).reshape(-1, 8)
 
 
-def tracking_report(bag_path: str, out_dir: str) -> list[str]:
-    """Plot commanded vs. achieved roll, pitch (REP-103), heave from /platform/state and the error; return RMS lines.
+def tracking_report(bag_path: str, out_dir: str) -> ReportLines:
+    """Plot commanded vs. achieved roll, pitch (REP-103), heave from /platform/state and the error; return RMS error
+    lines, and as figures (data) the RMS errors (m, rad), the fraction of states clipped and the achieved heave's range (m).
 
     Args:
         bag_path: the run's rosbag2 MCAP file (or its directory).
@@ -45,7 +47,7 @@ def tracking_report(bag_path: str, out_dir: str) -> list[str]:
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
     if data.shape[0] == 0:
-        return [f'platform: no {TOPIC} messages in the bag']
+        return ReportLines([f'platform: no {TOPIC} messages in the bag'], {})
     t = data[:, 0] - data[0, 0]
     error = data[:, 1:4] - data[:, 4:7]
     rms = np.sqrt(np.mean(error**2, axis=0))
@@ -72,9 +74,11 @@ def tracking_report(bag_path: str, out_dir: str) -> list[str]:
     fig.savefig(out / 'platform_tracking.png', dpi=110)
     plt.close(fig)
     clipped = (1.0 - data[:, 7].mean()) * 100.0
-    return [f'platform: {data.shape[0]} states over {t[-1]:.1f} s; RMS tracking error heave '
+    figures = {'tracking_rmse_heave': rms[0], 'tracking_rmse_roll': rms[1], 'tracking_rmse_pitch': rms[2],
+               'clipped_fraction': clipped / 100.0, 'heave_min': data[:, 1].min(), 'heave_max': data[:, 1].max()}
+    return ReportLines([f'platform: {data.shape[0]} states over {t[-1]:.1f} s; RMS tracking error heave '
             f'{rms[0] * 1000:.1f} mm, roll {np.degrees(rms[1]):.3f} deg, pitch {np.degrees(rms[2]):.3f} deg',
             f'platform: {clipped:.1f} % of states had the command clipped to the workspace; '
             f'commanded roll range {np.degrees(data[:, 5].min()):+.1f}..{np.degrees(data[:, 5].max()):+.1f} deg, '
             f'pitch {np.degrees(data[:, 6].min()):+.1f}..{np.degrees(data[:, 6].max()):+.1f} deg, '
-            f'heave {data[:, 4].min():+.2f}..{data[:, 4].max():+.2f} m']
+            f'heave {data[:, 4].min():+.2f}..{data[:, 4].max():+.2f} m'], figures)

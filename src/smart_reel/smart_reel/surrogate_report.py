@@ -42,6 +42,7 @@ from tether_common.command_line import UsageError
 from tether_common.command_line import analysis
 from tether_dynamics.clearance import above_deck
 from tether_dynamics.clearance import guide_height
+from tether_common.report_figures import ReportLines
 from tether_dynamics.statics.catenary import solve
 from tether_dynamics.statics.reference_length import reference_lengths
 
@@ -204,7 +205,11 @@ def _row(name: str, thesis: str, values: dict[str, str]) -> str:
 
 def report(paths: list[str], out: Path, settle: float | None = None) -> str:
     """Analyse the runs, write the PNGs and return the summary text."""
-    runs = [load_run(p) for p in paths]
+    return report_runs([load_run(p) for p in paths], out, settle)[0]
+
+
+def report_runs(runs: list[Run], out: Path, settle: float | None = None) -> tuple[str, dict[str, dict]]:
+    """Analyse the runs, write the PNGs; return the summary text and each run's :func:`analyse` by controller."""
     by_mode: dict[str, tuple[Run, dict]] = {}
     for run in runs:
         if run.controller in by_mode:
@@ -247,7 +252,7 @@ def report(paths: list[str], out: Path, settle: float | None = None) -> str:
     _plots(out, by_mode)
     lines.append('plots: ' + ', '.join(str(out / n) for n in ('surrogate_length.png', 'surrogate_angles.png',
                                                                'surrogate_tension.png', 'surrogate_clearance.png')))
-    return '\n'.join(lines)
+    return '\n'.join(lines), figures
 
 
 def _checks(figures: dict[str, dict]) -> list[str]:
@@ -350,22 +355,45 @@ def _plots(out: Path, by_mode: dict[str, tuple[Run, dict]]) -> None:
     plt.close(fig)
 
 
-def reel_report(bag_path: str, out_dir: str) -> list[str]:
-    """Scene report: the figures of one run (length error, tension, trips, clearance, Sec. 6.1)."""
+def figures(run: Run, result: dict) -> dict:
+    """One run's figures as data, from :func:`analyse` (after the settling time); ``success``: no safety trip
+    and no time fouled.
+    """
+    keep = result['keep']
+    return {
+        'controller': run.controller, 'profile': run.profile,
+        'success': result['trips'] == 0 and result['fouled_time'] == 0.0,
+        'length_mean': result['length_mean'], 'length_rmse': result['length_rmse'],
+        'tension_uav_mean': result['tension_stats'][0], 'tension_uav_std': result['tension_stats'][1],
+        'peak_tension_uav': float(np.max(run.tether['tension_uav'][keep])),
+        'peak_tension_reel': float(np.max(run.tether['tension_reel'][keep])),
+        'arrival_error': result['arrival_error'], 'departure_lag': result['departure_lag'],
+        'reel_trips': result['trips'], 'fouled_time': result['fouled_time'],
+        'least_clearance_deck': result['min_deck'], 'least_clearance_sea': result['min_sea'],
+    }
+
+
+def reel_report(bag_path: str, out_dir: str) -> ReportLines:
+    """Scene report: the figures of one run (length error, tension, trips, clearance, Sec. 6.1), as text and as
+    data (:func:`figures`).
+    """
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
-    return report([bag_path], out).splitlines()
+    run = load_run(bag_path)
+    text, results = report_runs([run], out)
+    return ReportLines(text.splitlines(), figures(run, results[run.controller]))
 
 
-def estimator_feedback_report(bag_path: str, out_dir: str) -> list[str]:
+def estimator_feedback_report(bag_path: str, out_dir: str) -> ReportLines:
     """Scene report of ``surrogate_estimator``: the length error of :func:`analyse` beside Table 6.2."""
     result = analyse(load_run(bag_path))
     thesis = THESIS_TABLE_6_2
-    return [f'length error with the estimator as feedback (Table 6.2), after the first {result["settle"]:g} s: '
+    return ReportLines([f'length error with the estimator as feedback (Table 6.2), after the first {result["settle"]:g} s: '
             f'mean {result["length_mean"]:+.4f} m, RMSE {result["length_rmse"]:.4f} m over '
             f'{result["duration"] - result["settle"]:.0f} s; thesis: mean {thesis["length_mean"]} m, RMSE '
             f'{thesis["length_rmse"]} m over {thesis["test_time"]:.0f} s (MoCap feedback, Sec. 6.1.1: mean '
-            f'{THESIS["length_mean"]} m, RMSE {THESIS["length_rmse"]} m)']
+            f'{THESIS["length_mean"]} m, RMSE {THESIS["length_rmse"]} m)'],
+        {'length_mean': result['length_mean'], 'length_rmse': result['length_rmse']})
 
 
 def _arguments(parser: argparse.ArgumentParser) -> None:

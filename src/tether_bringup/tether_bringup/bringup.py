@@ -21,6 +21,7 @@ opens a pipe from the group to the recorder, the group's recording stream
 from __future__ import annotations
 
 import importlib
+import json
 import os
 import resource
 import signal
@@ -63,6 +64,7 @@ from tether_common.lockstep import NODES_VARIABLE
 from tether_common.lockstep import RECORDER_READY_VARIABLE
 from tether_common.node_main import make_executor
 from tether_common.record_stream import open_pipe
+from tether_common.report_figures import scalar
 
 READY_TIMEOUT = 180.0
 """Start-up: nine Python node processes importing numpy, scipy and rclpy on a loaded 2-core machine take minutes."""
@@ -73,6 +75,8 @@ CLOCK_SUBSCRIBER_TIMEOUT = 30.0
 PROGRESS_PERIOD = 0.5
 LIVE_STATS = 'live.yaml'
 """The live server's URL and, after the run, its statistics, in the run directory."""
+FIGURES_FILE = 'figures.json'
+"""The run's figures as data in its directory: the run's own (:func:`_run_figures`) and its reports'."""
 
 
 @dataclass
@@ -204,6 +208,7 @@ def execute(nodes: list[NodeConfig], source, options: RunOptions) -> int:
     wall = time.monotonic() - wall_start
     lines = _summary(options, source, children, wall, failure, cpu, read_cpu(out / 'logs' / f'{GROUP_NAME}.cpu.yaml'))
     lines += live_lines(out / LIVE_STATS) if options.live is not None else []
+    figures: dict = {}
     if recorder is not None and recorder.returncode not in (0, None) and status == 0:
         status = 1
     bag_dir = out / 'bag'
@@ -216,13 +221,14 @@ def execute(nodes: list[NodeConfig], source, options: RunOptions) -> int:
             status = status or 1
         else:
             lines += bag_lines
-            report_lines, report_failed = _reports(options.reports, bag_dir, out)
+            report_lines, report_failed, figures = _reports(options.reports, bag_dir, out)
             lines += report_lines
             lines += [f'plot: {png}' for png in sorted(out.glob('*.png'))]
             if report_failed and status == 0:
                 status = 1
     text = '\n'.join(lines) + '\n'
     (out / 'summary.txt').write_text(text)
+    _write_figures(out / FIGURES_FILE, _run_figures(source, children, wall, failure, cpu, status), figures)
     print(text, end='', flush=True)
     if failure:
         print(f'tethersim: error: {failure}', file=sys.stderr, flush=True)
@@ -463,15 +469,45 @@ def _summary(options: RunOptions, source, children, wall: float, failure: str | 
     return lines
 
 
-def _reports(reports: tuple[str, ...], bag_dir: Path, out: Path) -> tuple[list[str], bool]:
+def _reports(reports: tuple[str, ...], bag_dir: Path, out: Path) -> tuple[list[str], bool, dict]:
+    """Run the scene's reports: their lines, whether one failed, and the figures of those that give them
+    (:class:`tether_common.report_figures.ReportLines`).
+    """
     lines: list[str] = []
     failed = False
+    figures: dict = {}
     for report in reports:
         module_name, _, function_name = report.partition(':')
         try:
             function = getattr(importlib.import_module(module_name), function_name)
-            lines += list(function(str(resolve_bag(bag_dir)), str(out)))
+            result = function(str(resolve_bag(bag_dir)), str(out))
+            lines += list(result)
+            for name, value in getattr(result, 'figures', {}).items():
+                figures[f'{function_name}.{name}' if name in figures else name] = value
         except Exception as error:  # a report's failure must not hide the run's other results
             lines.append(f'report {report} failed: {type(error).__name__}: {error}')
             failed = True
-    return lines, failed
+    return lines, failed, figures
+
+
+def _run_figures(source, children: list[ChildProcess], wall: float, failure: str | None, cpu: RunCpu,
+                 status: int) -> dict:
+    """The run's own figures: exit status, why it ended early, sim and wall time, achieved real-time factor, and
+    CPU: per simulated second from the first tick to the last ack (None unless every process was measured),
+    and in all, start-up and shutdown included.
+    """
+    rates = [cpu.per_sim_second(name) for name in ('tethersim', *(child.name for child in children))]
+    own = resource.getrusage(resource.RUSAGE_SELF)
+    return {'exit_status': status, 'ended_early': failure.splitlines()[0] if failure else None,
+            'sim_time': source.sim_time, 'wall_time': wall, 'realtime_factor': source.achieved_rate(),
+            'cpu_per_sim_s': None if None in rates else sum(r for r in rates if r is not None),
+            'cpu_time': own.ru_utime + own.ru_stime + sum(child.cpu_time for child in children)}
+
+
+def _write_figures(path: Path, run: dict, reports: dict) -> None:
+    """Write the run's figures and its reports' (a report's figure named like one of the run's gets the
+    ``report.`` prefix) as one flat JSON object; non-finite numbers as null.
+    """
+    figures = {name: scalar(value) for name, value in run.items()}
+    figures.update({f'report.{name}' if name in figures else name: value for name, value in reports.items()})
+    path.write_text(json.dumps(figures, indent=1) + '\n')

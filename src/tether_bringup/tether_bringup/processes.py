@@ -20,7 +20,14 @@ _CLOCK_TICKS = os.sysconf('SC_CLK_TCK')
 
 
 def _die_with_parent() -> None:
+    """In the child before it runs its program: SIGTERM when the bringup dies, and SIGINT and SIGTERM
+    acted on whatever the bringup inherited (a parent that ignores SIGINT, as a shell does for a
+    background job or a Ray worker does, would otherwise leave the node deaf to being stopped).
+    """
     ctypes.CDLL(None, use_errno=True).prctl(_PR_SET_PDEATHSIG, signal.SIGTERM, 0, 0, 0)
+    for signum in (signal.SIGINT, signal.SIGTERM):
+        signal.signal(signum, signal.SIG_DFL)
+    signal.pthread_sigmask(signal.SIG_UNBLOCK, (signal.SIGINT, signal.SIGTERM))
 
 
 class ChildProcess:

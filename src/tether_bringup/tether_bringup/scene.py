@@ -145,6 +145,11 @@ def load_scene(path: str | Path) -> Scene:
         mark = getattr(error, 'problem_mark', None)
         where = f' at line {mark.line + 1}' if mark else ''
         raise SceneError(f'{path}: not valid YAML{where}') from None
+    return scene_from_data(path, data)
+
+
+def scene_from_data(path: Path, data: object) -> Scene:
+    """Validate a scene's parsed YAML ``data`` as the file ``path`` (scripts are relative to it; errors name it)."""
     if not isinstance(data, dict):
         raise SceneError(f'{path}: expected a mapping of scene keys at the top level')
 

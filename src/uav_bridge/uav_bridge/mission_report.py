@@ -61,6 +61,7 @@ from tether_common.command_line import Command  # noqa: E402
 from tether_common.command_line import UsageError  # noqa: E402
 from tether_common.command_line import analysis  # noqa: E402
 from tether_dynamics.clearance import guide_height  # noqa: E402
+from tether_common.report_figures import ReportLines  # noqa: E402
 from tether_dynamics.plant_markers import reference_shape  # noqa: E402
 from tether_dynamics.statics.reference_length import reference_lengths  # noqa: E402
 from tether_common.rotation import quaternion_rotation  # noqa: E402
@@ -511,11 +512,64 @@ def report(paths: list[str], out: Path) -> str:
     return '\n'.join(lines + comparison_lines(results))
 
 
-def mission_report(bag_path: str, out_dir: str) -> list[str]:
-    """Scene report: the mission figures of one run."""
+def outcome(r: dict) -> tuple[str, str | None]:
+    """How the mission of a run ended, and the abort's reason (None without one).
+
+    ``landed_on_pad``: landed at the end of the mission, touching down within :data:`PAD_RADIUS`
+    of the built-in UAV's pad (:func:`_touchdown`); ``landed``: landed elsewhere or with no pad
+    to land on; ``aborted``: a reel trip aborted it (whether it then returned and landed on the
+    pad is in ``touchdown_distance``); ``incomplete``: the recording ended before it landed.
+    """
+    run = r['run']
+    reasons = [reason for _, _, reason, _ in run.phases if reason.startswith('aborted')]
+    abort = reasons[0].removeprefix('aborted: ') if reasons else None
+    if abort is not None:
+        return 'aborted', abort
+    if r['touchdown'] is None:
+        return 'incomplete', None
+    return ('landed_on_pad' if r['touchdown'][1] <= PAD_RADIUS else 'landed'), None
+
+
+def figures(r: dict) -> dict:
+    """The run's figures as data (:func:`analyse`'s, by the module docstring's definitions; None where the run
+    has none): outcome, hold time, peak tensions, fouling, clearance, trips, estimator and length errors.
+    """
+    run = r['run']
+    ended, abort = outcome(r)
+    keeping = r.get('keeping', {})
+    landing = r['landing_figures'] or {}
+    tension = run.tether
+
+    def peak(name: str):
+        return float(tension[name].max()) if len(tension['t']) else None
+
+    def rmse(key: str):
+        return _stats(r[key][1])[1] if key in r and len(r[key][1]) else None
+
+    return {
+        'outcome': ended, 'success': ended == 'landed_on_pad', 'abort_reason': abort,
+        'touchdown_distance': r['touchdown'][1] if r['touchdown'] is not None else None,
+        'reel_trip_limit': run.max_tension,
+        'hold_time': r['window'][1] - r['window'][0] if 'window' in r else 0.0,
+        'landing_time': r['landing'] if math.isfinite(r['landing']) else None,
+        'peak_tension_reel': peak('tension_reel'), 'peak_tension_uav': peak('tension_uav'),
+        'fouled_time': r['fouled_time'], 'fouling_events': r['fouling_events'], 'sag_time': r['sag_time'],
+        'least_clearance_deck': r['min_deck'], 'least_clearance_sea': r['min_sea'],
+        'reel_trips': r['trips'] + landing.get('trips', 0), 'reel_trips_flying': r['trips'],
+        'landing_peak_tension_reel': landing.get('tension_reel'), 'landing_peak_tension_uav': landing.get('tension_uav'),
+        'landing_fouled_time': landing.get('fouled_time'),
+        'altitude_peak_to_peak': keeping.get('peak_to_peak'), 'altitude_std': keeping.get('std'),
+        'horizontal_radius': keeping.get('radius'), 'xcorr_max': r['xcorr_max'][0] if 'xcorr_max' in r else None,
+        'shape_mean': r.get('shape_mean'), 'dz_rmse': rmse('dz_error'), 'length_rmse': rmse('length_error'),
+    }
+
+
+def mission_report(bag_path: str, out_dir: str) -> ReportLines:
+    """Scene report: the mission figures of one run, as text and as data (:func:`figures`)."""
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
-    return report([bag_path], out).splitlines()
+    r = analyse(load_run(bag_path))
+    return ReportLines(summary_lines(r) + ['  plots: ' + ', '.join(plot(r, out))], figures(r))
 
 
 def _arguments(parser: argparse.ArgumentParser) -> None:

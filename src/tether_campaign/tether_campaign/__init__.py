@@ -1,0 +1,1 @@
+"""Campaigns: Monte Carlo sweeps of tethersim scenes on Ray."""
