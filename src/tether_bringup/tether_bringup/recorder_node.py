@@ -116,7 +116,8 @@ class Recorder(Node):
     def __init__(self) -> None:
         super().__init__('recorder')
         self.params = declare_parameters(self, PARAMETERS)
-        self.bag = BagWriter(self.params['bag_directory'], flush_period=self.params['flush_period'])
+        self.bag = BagWriter(self.params['bag_directory'], flush_period=self.params['flush_period'],
+                             chunk_period=self.params['chunk_period'])
         self.sim_time_ns = 0
         self._subscriptions_by_topic = {}
         self._last_change = time.monotonic()
