@@ -255,8 +255,7 @@ def _verify_and_report(out: Path, reports: tuple[str, ...], lines: list[str], st
         lines += describe_bag(read_bag(bag_dir))
         status = status or 1
     step[0] = 'running the reports'
-    report_lines, report_failed = _reports(reports, bag_dir, out)
-    lines += report_lines
+    report_failed = _reports(reports, bag_dir, out, lines)
     return 1 if report_failed and status == 0 else status
 
 
@@ -493,8 +492,10 @@ def _summary(options: RunOptions, source, children, wall: float, failure: str | 
     return lines
 
 
-def _reports(reports: tuple[str, ...], bag_dir: Path, out: Path) -> tuple[list[str], bool]:
-    lines: list[str] = []
+def _reports(reports: tuple[str, ...], bag_dir: Path, out: Path, lines: list[str]) -> bool:
+    """Run each report, adding its lines to ``lines`` as it ends; True if one failed. A signal (:class:`_Stop`)
+    ends the phase: the report it interrupted and those not run are named.
+    """
     failed = False
     for number, report in enumerate(reports):
         module_name, _, function_name = report.partition(':')
@@ -508,4 +509,4 @@ def _reports(reports: tuple[str, ...], bag_dir: Path, out: Path) -> tuple[list[s
         except Exception as error:  # a report's failure must not hide the run's other results
             lines.append(f'report {report} failed: {type(error).__name__}: {error}')
             failed = True
-    return lines, failed
+    return failed
