@@ -231,8 +231,9 @@ def test_a_run_says_its_bag_is_verified(scene_file, tmp_path):
     result = tethersim('run', str(path), '--out', str(out), timeout=120)
     assert result.returncode == 0, result.stderr
     bag = read_bag(out)
-    assert (f'bag verified: {bag.chunks} chunks and {len(bag.messages)} messages read, every chunk\'s CRC and '
-            'the data section\'s and summary\'s CRCs checked') in result.stdout.splitlines()
+    assert bag.crcs == {'chunk', 'data section', 'summary'}
+    assert (f'bag verified: {bag.chunks} chunks and {len(bag.messages)} messages read, every chunk\'s CRC, the '
+            'data section\'s CRC, the summary\'s CRC checked') in result.stdout.splitlines()
     assert bag.chunks >= 2
 
 

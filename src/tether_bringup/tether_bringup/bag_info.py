@@ -50,8 +50,7 @@ def describe_bag(bag: Bag, check: bool = False) -> list[str]:
         rate = (topic.count - 1) / span if topic.count > 1 and span > 0 else 0.0
         lines.append(f'{topic.name:<28} {topic.type_name:<42} {topic.count:>7} {rate:8.1f}')
     if check:
-        lines.append(f'checked: every chunk\'s CRC, the data section\'s and the summary\'s CRCs where present, '
-                     f'and {len(bag.messages)} messages decoded')
+        lines.append(f'checked: {bag.checked_line()}, every message decoded')
         lines += [f'damaged at {damage}' for damage in bag.damage]
     elif not bag.complete:
         lines.append(f'damaged at {bag.damage_line()}')

@@ -72,6 +72,8 @@ class Bag:
     messages: list[BagMessage] = field(default_factory=list)
     damage: list[Damage] = field(default_factory=list)
     chunks: int = 0
+    crcs: set[str] = field(default_factory=set)
+    """The CRCs the file has, all checked: ``chunk`` (every chunk's), ``data section``, ``summary``."""
 
     @property
     def complete(self) -> bool:
@@ -104,6 +106,13 @@ class Bag:
         lines = [f'DAMAGED bag {self.path}: read with {ALLOW_OPTION}: {len(self.messages)} intact messages used, '
                  f'{count} skipped at {len(self.damage)} damaged place(s):']
         return lines + [f'  skipped at {damage}' for damage in self.damage]
+
+    def checked_line(self) -> str:
+        """What reading the bag checked, in a few words: its chunks and messages, and its CRCs."""
+        names = {'chunk': 'every chunk\'s CRC', 'data section': 'the data section\'s CRC', 'summary': 'the summary\'s CRC'}
+        crcs = [text for key, text in names.items() if key in self.crcs]
+        return (f'{self.chunks} chunks and {len(self.messages)} messages read, '
+                + (', '.join(crcs) + ' checked' if crcs else 'the file has no CRCs to check'))
 
     def decoded(self, topic: str, required: bool = True) -> list[tuple[int, Any]]:
         """Return (log time ns, decoded message) of every message on ``topic``.
@@ -190,7 +199,7 @@ def read_bag(path: str | Path, topics: list[str] | None = None, allow_damaged: b
     if scanned.damage and not allow_damaged and allowed is None:
         raise BagError(f'{file} is damaged at {_damage_line(scanned.damage)}; refused: {ALLOW_OPTION} reads '
                        'what is intact, `tethersim bag recover` rewrites it')
-    bag = Bag(path=file, damage=scanned.damage, chunks=scanned.chunks)
+    bag = Bag(path=file, damage=scanned.damage, chunks=scanned.chunks, crcs=scanned.crcs)
     if scanned.damage and allowed is not None and not allow_damaged:
         allowed.append(bag)
     for message in scanned.messages:

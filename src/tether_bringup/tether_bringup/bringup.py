@@ -246,8 +246,7 @@ def _verify_and_report(out: Path, reports: tuple[str, ...], lines: list[str], st
         lines.append(f'no recording: {error}')
         return status or 1
     if recovery is None:
-        lines.append(f'bag verified: {bag.chunks} chunks and {len(bag.messages)} messages read, every chunk\'s CRC '
-                     'and the data section\'s and summary\'s CRCs checked')
+        lines.append(f'bag verified: {bag.checked_line()}')
         lines += describe_bag(bag)
     else:
         lines.append(f'bag verification FAILED: damaged at {bag.damage_line()}')

@@ -82,6 +82,8 @@ class ScannedFile:
 
     size: int
     chunks: int = 0
+    crcs: set[str] = field(default_factory=set)
+    """The CRCs the file has and the walk checked: ``chunk`` (every chunk has one), ``data section``, ``summary``."""
     schemas: dict[int, Schema] = field(default_factory=dict)
     channels: dict[int, Channel] = field(default_factory=dict)
     messages: list[Message] = field(default_factory=list)
@@ -163,6 +165,7 @@ class _Walk:
         self.summary_records: list[Schema | Channel] = []
         self.footer: Footer | None = None
         self.footer_offset = 0
+        self.chunk_without_crc = False
         self.skipped: tuple[Damage, dict[int, int]] | None = None
         """The damaged chunk just walked and the messages of each channel read from it, until its MessageIndexes end."""
 
@@ -248,7 +251,9 @@ class _Walk:
             data = _decompress(chunk)
             if len(data) != chunk.uncompressed_size:
                 raise _Malformed(f'{len(data)} bytes uncompressed, its header says {chunk.uncompressed_size}')
-            if chunk.uncompressed_crc and zlib.crc32(data) != chunk.uncompressed_crc:
+            if not chunk.uncompressed_crc:
+                self.chunk_without_crc = True
+            elif zlib.crc32(data) != chunk.uncompressed_crc:
                 raise _Malformed('its content fails the CRC check')
         except _Malformed as error:
             self.chunk_damaged(pos, f'Chunk ({where}) is corrupt: {error}', {})
@@ -297,6 +302,8 @@ class _Walk:
     def _data_end(self, record: McapRecord, pos: int) -> None:
         assert isinstance(record, DataEnd)
         self.data_end = self.stream.tell()
+        if record.data_section_crc:
+            self.out.crcs.add('data section')
         if record.data_section_crc and record.data_section_crc != self.crc_before_record and not self.out.damage:
             self.damaged(pos, 'the data section fails its CRC check, though every chunk in it passes its own: '
                               'a record outside the chunks is damaged')
@@ -312,6 +319,8 @@ class _Walk:
         elif record.summary_start and record.summary_crc and record.summary_crc != self.summary_crc:
             self.damaged(self.data_end, 'the summary section (the index readers use) fails its CRC check')
         else:
+            if record.summary_start and record.summary_crc:
+                self.out.crcs.add('summary')
             for summary_record in self.summary_records:
                 table = self.out.schemas if isinstance(summary_record, Schema) else self.out.channels
                 table.setdefault(summary_record.id, summary_record)  # type: ignore[arg-type]
@@ -334,4 +343,6 @@ def scan(stream: BinaryIO, size: int) -> ScannedFile:
     """Walk an MCAP file of ``size`` bytes whose 8 magic bytes ``stream`` has already yielded."""
     walk = _Walk(stream, size)
     walk.run()
+    if walk.out.chunks and not walk.chunk_without_crc:
+        walk.out.crcs.add('chunk')
     return walk.out
