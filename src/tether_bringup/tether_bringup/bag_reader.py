@@ -39,6 +39,7 @@ ALLOW_OPTION = '--allow-damaged'
 """The option of every command that reads bags: read what is intact in a damaged bag and say what was skipped."""
 _ALLOWED: ContextVar[list[Bag] | None] = ContextVar('damaged_bags_allowed', default=None)
 
+
 @dataclass
 class BagMessage:
     """One serialized message of a bag."""
@@ -194,7 +195,7 @@ def read_bag(path: str | Path, topics: list[str] | None = None, allow_damaged: b
         raise BagError(f'{file}: {size} bytes, damaged before any topic was recorded: {scanned.damage[0]}')
     for damage in scanned.damage:
         damage.lost_topics = {scanned.channels[channel].topic if channel in scanned.channels else f'channel {channel}':
-                              count for channel, count in (damage.lost or {}).items()}
+                              count for channel, count in damage.lost.items()}
     allowed = _ALLOWED.get()
     if scanned.damage and not allow_damaged and allowed is None:
         raise BagError(f'{file} is damaged at {_damage_line(scanned.damage)}; refused: {ALLOW_OPTION} reads '

@@ -3,9 +3,9 @@
 The MCAP readers stop with an exception at the first damaged byte. This walk reads the
 file linearly with every length checked against the bytes that are left, every chunk
 decompressed and checked against its CRC and size, every MessageIndex checked against the
-chunk before it, the data section and summary CRCs checked where the file has them (the data section's
-named only when no damage in it was found otherwise), and
-the closing magic checked. A damaged chunk whose frame is intact is skipped and the walk
+chunk before it, the data section and summary CRCs checked where the file has them (the
+data section's named only when no damage in it was found otherwise), and the closing magic
+checked. A damaged chunk whose frame is intact is skipped and the walk
 goes on; damage to the record framing (a cut, a damaged length or opcode) ends it. What
 was read before and around the damage is returned with one description per damaged place;
 a skipped chunk's description holds its time range and, from the MessageIndex records that
