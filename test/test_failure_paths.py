@@ -7,6 +7,7 @@ process behind, and (once recording started) leave a bag readers can open.
 from __future__ import annotations
 
 import json
+import os
 import signal
 import time
 from pathlib import Path
@@ -48,6 +49,15 @@ BAD_SCENES = [
     ('missing parameter file', 'description: x\nnodes:\n  platform:\n    package: psr_platform_sim\n'
      '    executable: platform\n    parameters: {profile: /no/such/heave.csv}\n',
      'nodes.platform.parameters.profile: file not found: /no/such/heave.csv'),
+    ('vector of the wrong length', 'description: x\nnodes:\n  plant:\n    package: tether_dynamics\n'
+     '    executable: plant\n    parameters: {uav_position: [3.22, 0.0]}\n',
+     'nodes.plant.parameters.uav_position: expected a list of 3 numbers (m), got 2: [3.22, 0.0]'),
+]
+
+UNREADABLE_SCENES = [
+    ('binary garbage', bytes(range(256)) * 4, 'not a UTF-8 text file (byte 128 is 0x80); a scene is YAML in UTF-8'),
+    ('Latin-1 text', f'description: caf\u00e9\nnodes:\n{TALKER}'.encode('latin-1'),
+     'not a UTF-8 text file (byte 16 is 0xe9); a scene is YAML in UTF-8'),
 ]
 
 
@@ -61,6 +71,24 @@ def test_bad_scene_gives_one_line_and_status_2(scene_file, tmp_path, text, expec
     assert lines[0].startswith(f'tethersim: error: {path}: '), lines[0]
     assert expected in lines[0]
     assert not (tmp_path / 'out').exists()
+
+
+@pytest.mark.parametrize('content, expected', [(c, e) for _, c, e in UNREADABLE_SCENES],
+                         ids=[n for n, _, _ in UNREADABLE_SCENES])
+def test_scene_that_is_not_utf8_gives_one_line_and_status_2(tmp_path, content, expected):
+    path = tmp_path / 'scene.yaml'
+    path.write_bytes(content)
+    result = tethersim('run', str(path), '--out', str(tmp_path / 'out'), timeout=60)
+    assert result.returncode == 2
+    assert result.stderr.strip().splitlines() == [f'tethersim: error: {path}: {expected}']
+    assert not (tmp_path / 'out').exists()
+
+
+def test_directory_given_as_the_scene_is_named_as_one(tmp_path):
+    result = tethersim('run', str(tmp_path), '--out', str(tmp_path / 'out'), timeout=60)
+    assert result.returncode == 2
+    assert result.stderr.strip().splitlines() == [
+        f'tethersim: error: {tmp_path}: a directory, not a scene file (give a scene name or a YAML file)']
 
 
 def test_missing_scene_name_lists_installed_scenes():
@@ -162,10 +190,11 @@ def test_killed_recorder_loses_at_most_about_a_second_and_the_bag_is_recovered(s
                     stamps.append(message.log_time)
         except Exception:  # the file ends inside an unfinished chunk: everything before it was read
             pass
-    assert not read_bag(damaged).complete
+    assert not read_bag(damaged, allow_damaged=True).complete
     bag = read_bag(out)
     assert bag.complete
-    assert 'recovered ' in (out / 'summary.txt').read_text()
+    summary = (out / 'summary.txt').read_text()
+    assert 'bag verification FAILED: damaged at byte ' in summary and 'recovered ' in summary
     assert len(stamps) == bag.topics['/test/estimate'].count > 0
     with open(bag.path, 'rb') as stream:
         indexed = make_reader(stream)
@@ -194,3 +223,73 @@ def test_existing_run_directory_is_not_overwritten(scene_file, tmp_path):
     assert result.returncode == 2
     assert result.stderr.strip() == f'tethersim: error: {out}: this run directory already holds a bag; give another --out'
     assert (out / 'bag' / 'bag_0.mcap').read_bytes() == b'earlier recording'
+
+
+def test_a_run_says_its_bag_is_verified(scene_file, tmp_path):
+    path = scene_file(f'description: a short run\nduration: 2\nrate: 4\nnodes:\n{TALKER}')
+    out = tmp_path / 'out'
+    result = tethersim('run', str(path), '--out', str(out), timeout=120)
+    assert result.returncode == 0, result.stderr
+    bag = read_bag(out)
+    assert bag.crcs == {'chunk', 'data section', 'summary'}
+    assert (f'bag verified: {bag.chunks} chunks and {len(bag.messages)} messages read, every chunk\'s CRC, the '
+            'data section\'s CRC, the summary\'s CRC checked') in result.stdout.splitlines()
+    assert bag.chunks >= 2
+
+
+def test_node_dying_with_an_empty_log_says_the_log_is_empty(scene_file, tmp_path):
+    path = scene_file(f'description: a node that dies silently\nduration: 5\nnodes:\n{TALKER}'
+                      f'  silent:\n    script: {NODES / "silent_crash_double.py"}\n')
+    out = tmp_path / 'out'
+    result = tethersim('run', str(path), '--out', str(out), timeout=120)
+    assert result.returncode == 1
+    log = out / 'logs' / 'silent.log'
+    assert result.stderr.strip().splitlines()[-1] == (
+        f'tethersim: error: node silent died with exit status 3; its log {log} is empty (it wrote nothing before '
+        'it ended)')
+    assert not processes_of(out)
+
+
+def test_sigterm_while_reporting_still_writes_the_summary_and_plots(scene_file, tmp_path):
+    started = tmp_path / 'report.started'
+    path = scene_file(f'description: a run whose second report is slow\nduration: 2\nrate: 4\nnodes:\n{TALKER}'
+                      'reports:\n  - report_doubles:plot_report\n  - report_doubles:slow_report\n'
+                      '  - report_doubles:plot_report\n')
+    out = tmp_path / 'out'
+    environment = {**os.environ, 'SLOW_REPORT_STARTED': str(started),
+                   'PYTHONPATH': os.pathsep.join([str(NODES), os.environ.get('PYTHONPATH', '')])}
+    bringup = start_tethersim('run', str(path), '--out', str(out), env=environment)
+    deadline = time.monotonic() + 120
+    while not started.exists():
+        assert bringup.poll() is None, bringup.communicate()
+        assert time.monotonic() < deadline
+        time.sleep(0.05)
+    bringup.send_signal(signal.SIGTERM)
+    stdout, stderr = bringup.communicate(timeout=60)
+    assert bringup.returncode == 143, stderr
+    assert 'Traceback' not in stderr
+    summary = (out / 'summary.txt').read_text().splitlines()
+    assert summary == stdout.splitlines()
+    assert 'plot report: done' in summary
+    assert ('report report_doubles:slow_report interrupted by SIGTERM; not run: report_doubles:plot_report'
+            in summary)
+    assert 'interrupted by SIGTERM while running the reports: the lines above are all the reports did' in summary
+    assert summary[-1] == f'plot: {out / "plot_report.png"}'
+    assert not processes_of(out)
+
+
+def test_replaying_a_topic_the_scene_publishes_too_is_refused(scene_file, tmp_path):
+    """Two sources of /platform/imu (the bag and the scene's platform node) would reach the nodes at once."""
+    path = scene_file('description: the platform node, which publishes /platform/imu\nnodes:\n'
+                      '  platform:\n    package: psr_platform_sim\n    executable: platform\n'
+                      f'    parameters: {{table_steps: 60, profile_duration: 2.0, profile: still, cache_dir: {tmp_path}}}\n')
+    out = tmp_path / 'out'
+    result = tethersim('replay', str(Path(__file__).resolve().parent.parent / 'bags' / 'platform-hpr3-10s'),
+                       '--topics', '/platform/imu', '--scene', str(path), '--rate', 'max', '--out', str(out),
+                       timeout=180)
+    assert result.returncode == 2, result.stderr
+    assert result.stderr.strip().splitlines()[-1] == (
+        "tethersim: error: replayed topic(s) published by the scene's own nodes too, refused (two sources of one "
+        'topic): /platform/imu by platform')
+    assert 'Traceback' not in result.stderr
+    assert not processes_of(out)

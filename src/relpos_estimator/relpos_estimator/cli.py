@@ -37,6 +37,9 @@ from relpos_estimator.recorded import rmse  # noqa: E402
 from relpos_estimator.recorded import score  # noqa: E402
 from relpos_estimator.report import THESIS_TABLE_6_1  # noqa: E402
 from relpos_estimator.twiddle import twiddle  # noqa: E402
+from tether_bringup.bag_reader import ALLOW_OPTION  # noqa: E402
+from tether_bringup.bag_reader import damaged_bags_allowed  # noqa: E402
+from tether_bringup.report_command import report_skipped  # noqa: E402
 from tether_common.command_line import Command  # noqa: E402
 from tether_common.command_line import OneLineParser  # noqa: E402
 from tether_common.command_line import UsageError  # noqa: E402
@@ -90,7 +93,7 @@ def _recordings(paths: list[str]):
     return recs
 
 
-def _through_replay(rec: Recording, bag: str, values: dict, out: Path):
+def _through_replay(rec: Recording, bag: str, values: dict, out: Path, allow_damaged: bool = False):
     """Replay the recording's sensor topics to the estimator node with ``values``; its recorded outputs."""
     out.mkdir(parents=True, exist_ok=True)
     scene = out / f'replay-{rec.name}.yaml'
@@ -102,7 +105,7 @@ def _through_replay(rec: Recording, bag: str, values: dict, out: Path):
     if run_dir.exists():
         raise UsageError(f'{run_dir} exists: remove it or give another --out')
     command = [sys.executable, '-m', 'tether_bringup', 'replay', bag, '--topics', *REPLAYED, '--scene', str(scene),
-               '--rate', 'max', '--out', str(run_dir)]
+               '--rate', 'max', '--out', str(run_dir), *([ALLOW_OPTION] if allow_damaged else [])]
     print(f'[{PROG}] {" ".join(command[2:])}', file=sys.stderr, flush=True)
     result = subprocess.run(command, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True, check=False)
     if result.returncode != 0:
@@ -118,7 +121,7 @@ def cmd_evaluate(args: argparse.Namespace) -> str:
     scores = []
     for i, (rec, bag) in enumerate(zip(recs, args.bags), 1):
         print(f'[{PROG}] evaluating {rec.name} ({i}/{len(recs)})', file=sys.stderr, flush=True)
-        run = (_through_replay(rec, bag, values, args.out) if args.replay
+        run = (_through_replay(rec, bag, values, args.out, args.allow_damaged) if args.replay
                else replay(rec, _factory(values)(), input_delay=values['input_delay']))
         scores.append(score(rec, run, _factory(values), counterfactuals=not args.no_shift))
     source = ('the estimator node behind tethersim replay of each recording' if args.replay
@@ -245,6 +248,8 @@ def _arguments(parser: argparse.ArgumentParser) -> None:
     evaluate.add_argument('--replay', action='store_true',
                           help='score the estimator node run behind tethersim replay of each recording')
     evaluate.add_argument('--out', type=Path, default=Path('runs/estimator-evaluate'), help='output directory')
+    evaluate.add_argument(ALLOW_OPTION, action='store_true',
+                          help='read what is intact in damaged bags and say what was skipped')
     evaluate.set_defaults(func=cmd_evaluate)
     tune = commands.add_parser('tune', help='Twiddle the covariances against the recorded truth (Algorithm 1)')
     tune.add_argument('bags', nargs='+', help='bag files, bag directories or run directories')
@@ -254,6 +259,8 @@ def _arguments(parser: argparse.ArgumentParser) -> None:
     tune.add_argument('--tolerance', type=positive(), default=0.1, help='stop at this mean relative step')
     tune.add_argument('--max-rounds', type=positive(int), default=30, help='stop after this many rounds')
     tune.add_argument('--out', type=Path, default=Path('runs/estimator-tune'), help='output directory')
+    tune.add_argument(ALLOW_OPTION, action='store_true',
+                      help='read what is intact in damaged bags and say what was skipped')
     tune.set_defaults(func=cmd_tune)
     measure = commands.add_parser('measure', help='measure Q and R from recorded sensors against the truth')
     measure.add_argument('bags', nargs='+', help='bag files, bag directories or run directories')
@@ -262,8 +269,18 @@ def _arguments(parser: argparse.ArgumentParser) -> None:
     measure.set_defaults(func=cmd_measure)
 
 
+_ANALYSIS = analysis(PROG, lambda args: args.func(args), user_errors=(ValueError,))
+
+
+def _run(args: argparse.Namespace) -> int:
+    """Run the subcommand; with --allow-damaged, say what was skipped of each damaged bag."""
+    with damaged_bags_allowed(args.allow_damaged) as damaged:
+        status = _ANALYSIS(args)
+    return status if status else report_skipped(args, damaged)
+
+
 COMMAND = Command('relative-altitude estimator: Twiddle tuning, replay evaluation (thesis Sec. 5.2, 6.2)',
-                  _arguments, analysis(PROG, lambda args: args.func(args), user_errors=(ValueError,)))
+                  _arguments, _run)
 
 
 def main(argv: list[str] | None = None) -> int:

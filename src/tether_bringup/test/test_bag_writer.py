@@ -2,10 +2,15 @@
 
 from __future__ import annotations
 
+import zlib
+
 import pytest
 import rclpy
 import yaml
 from mcap.reader import make_reader
+from mcap.records import DataEnd
+from mcap.records import Footer
+from mcap.stream_reader import StreamReader
 from rclpy.serialization import serialize_message
 from rosbags.highlevel import AnyReader
 
@@ -69,7 +74,7 @@ def test_unflushed_writer_leaves_readable_prefix(tmp_path):
     writer._writer.flush()
     writer.write('/point', serialize_message(PointStamped()), 3)
     writer._stream.flush()
-    bag = read_bag(tmp_path / 'bag')
+    bag = read_bag(tmp_path / 'bag', allow_damaged=True)
     assert not bag.complete
     assert bag.topics['/point'].count == 3
 
@@ -96,3 +101,24 @@ def test_every_channel_carries_the_type_hash_rclpy_reports(tmp_path, ros_context
     hashes = {t['topic_metadata']['name']: t['topic_metadata']['type_description_hash']
               for t in metadata['topics_with_message_count']}
     assert hashes == reported
+
+
+def test_chunks_end_at_whole_chunk_periods_of_log_time(tmp_path):
+    """One damaged chunk costs at most ``chunk_period`` of sim time, wherever the machine's flushes fall."""
+    writer = BagWriter(tmp_path / 'bag', flush_period=1e9, chunk_period=0.5)
+    writer.add_topic('/point', 'geometry_msgs/msg/PointStamped', [QosRecord()])
+    for i in range(1, 31):
+        writer.write('/point', serialize_message(PointStamped()), i * 10**8)
+    writer.close()
+    with open(writer.path, 'rb') as stream:
+        summary = make_reader(stream).get_summary()
+    ranges = [(chunk.message_start_time, chunk.message_end_time) for chunk in summary.chunk_indexes]
+    assert ranges == [(10**8, 4 * 10**8)] + [(k * 5 * 10**8, k * 5 * 10**8 + 4 * 10**8) for k in range(1, 6)] + \
+        [(30 * 10**8, 30 * 10**8)]
+    assert read_bag(tmp_path / 'bag').chunks == 7
+    with open(writer.path, 'rb') as stream:
+        records = list(StreamReader(stream).records)
+    data_end = next(record for record in records if isinstance(record, DataEnd))
+    footer = next(record for record in records if isinstance(record, Footer))
+    data_end_size = 1 + 8 + 4  # opcode, length, data_section_crc
+    assert data_end.data_section_crc == zlib.crc32(writer.path.read_bytes()[:footer.summary_start - data_end_size])

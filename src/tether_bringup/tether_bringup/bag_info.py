@@ -8,13 +8,36 @@ from pathlib import Path
 
 import numpy as np
 
+from tether_bringup.bag_reader import Bag
 from tether_bringup.bag_reader import read_bag
 from tether_bringup.errors import BagError
 
 
-def bag_summary_lines(path: str | Path) -> list[str]:
+def bag_summary_lines(path: str | Path, check: bool = False) -> list[str]:
     """Return the lines of ``tethersim bag info``: topics, types, counts, rates, duration, damage."""
-    bag = read_bag(path)
+    return describe_bag(read_for_info(path, check), check)
+
+
+def read_for_info(path: str | Path, check: bool = False) -> Bag:
+    """Read a bag for ``bag info``, damaged or not.
+
+    Every chunk is read and checked against its CRC (:mod:`tether_bringup.bag_reader`). With
+    ``check`` (``bag info --check``) every message is also decoded with its topic's definition.
+
+    Raises:
+        BagError: nothing in the file is readable; with ``check``, a message does not decode.
+    """
+    bag = read_bag(path, allow_damaged=True)
+    if check:
+        for topic in bag.topics:
+            bag.decoded(topic)
+    return bag
+
+
+def describe_bag(bag: Bag, check: bool = False) -> list[str]:
+    """The lines of :func:`bag_summary_lines` for a bag already read: a damaged bag's last line names its first
+    damaged place, or with ``check`` every damaged place has a line.
+    """
     size = bag.path.stat().st_size
     state = 'finalized' if bag.complete else 'DAMAGED: read everything intact (tethersim bag recover writes a finalized copy)'
     lines = [
@@ -26,7 +49,10 @@ def bag_summary_lines(path: str | Path) -> list[str]:
         span = ((topic.last_ns or 0) - (topic.first_ns or 0)) / 1e9
         rate = (topic.count - 1) / span if topic.count > 1 and span > 0 else 0.0
         lines.append(f'{topic.name:<28} {topic.type_name:<42} {topic.count:>7} {rate:8.1f}')
-    if not bag.complete:
+    if check:
+        lines.append(f'checked: {bag.checked_line()}, every message decoded')
+        lines += [f'damaged at {damage}' for damage in bag.damage]
+    elif not bag.complete:
         lines.append(f'damaged at {bag.damage_line()}')
     return lines
 

@@ -1,7 +1,7 @@
 """Rewrite a damaged bag as a finalized one, as ``ros2 bag reindex`` and ``mcap recover`` do.
 
-Everything intact in the damaged file (:func:`tether_bringup.bag_reader.read_bag`) is written
-anew by the recorder's writer, with the bag's own message definitions, QoS and type hashes:
+Everything intact in the damaged file (:func:`tether_bringup.bag_reader.read_bag`: only chunks
+that pass their CRC check) is written anew by the recorder's writer, with the bag's own message definitions, QoS and type hashes:
 chunks, indexes, Statistics, the rosbag2 metadata record and ``metadata.yaml``. The damaged
 file is kept beside it as ``<name>.damaged``, so nothing is thrown away.
 """
@@ -28,9 +28,12 @@ class Recovery:
 
     def line(self) -> str:
         """One line for the user: what was damaged, what the finalized bag holds, where the original is."""
+        lost = self.bag.lost_count
+        dropped = 'an unknown number of messages' if lost is None else f'{lost} messages'
         return (f'recovered {self.bag.path}: {len(self.bag.messages)} messages on {len(self.bag.topics)} topics '
-                f'over {self.bag.duration:.3f} s rewritten as a finalized bag (it was damaged at '
-                f'{self.bag.damage_line()}); the damaged file is kept as {self.damaged_copy.name}')
+                f'over {self.bag.duration:.3f} s rewritten as a finalized bag, {dropped} dropped from '
+                f'{len(self.bag.damage)} damaged place(s), the first at {self.bag.damage[0]}; the damaged file is '
+                f'kept as {self.damaged_copy.name}')
 
 
 def recover_bag(path: str | Path) -> Recovery | None:
@@ -39,7 +42,7 @@ def recover_bag(path: str | Path) -> Recovery | None:
     Raises:
         BagError: nothing in the file is recoverable, or the damaged copy's name is taken.
     """
-    bag = read_bag(path)
+    bag = read_bag(path, allow_damaged=True)
     if bag.complete:
         return None
     damaged_copy = bag.path.with_name(bag.path.name + '.damaged')

@@ -3,13 +3,18 @@
 What the file holds follows rosbag2's MCAP storage plugin for ROS 2 Jazzy: ``ros2``
 profile; one ``ros2msg`` schema per type with the concatenated definition; one ``cdr``
 channel per topic with ``offered_qos_profiles`` (YAML, version 9 format) and
-``topic_type_hash`` metadata; zstd chunks; Statistics in the summary; a ``rosbag2``
-metadata record with the serialized BagMetadata (version 9). Beside the ``.mcap`` it
-writes the ``metadata.yaml`` rosbag2 keeps in a bag directory.
+``topic_type_hash`` metadata; zstd chunks, each with the CRC of its content; the CRC of
+the data section and of the summary; Statistics in the summary; a ``rosbag2`` metadata
+record with the serialized BagMetadata (version 9). Beside the ``.mcap`` it writes the
+``metadata.yaml`` rosbag2 keeps in a bag directory.
 
-The open chunk is closed and flushed to disk at least every ``flush_period`` seconds, so a
-recorder killed with SIGKILL loses at most that much data and leaves a file whose
-complete chunks every MCAP reader can still read.
+Chunks end at whole multiples of ``chunk_period`` seconds of log time (sim time in a run):
+a message logged at or after the open chunk's boundary closes it first. One damaged chunk
+so costs at most ``chunk_period`` of sim time (with the messages of earlier stamps written
+into it late, at most the lockstep window's), and where chunks end depends on the stamps,
+not on the machine's speed. The open chunk is also closed and flushed to disk at least
+every ``flush_period`` seconds of wall time, so a recorder killed with SIGKILL loses at most
+that much data and leaves a file whose complete chunks every MCAP reader can still read.
 """
 
 from __future__ import annotations
@@ -88,18 +93,21 @@ class _Topic:
 class BagWriter:
     """Write one rosbag2-compatible MCAP file; see the module docstring for the layout."""
 
-    def __init__(self, directory: str | Path, *, flush_period: float = 1.0,
+    def __init__(self, directory: str | Path, *, flush_period: float = 1.0, chunk_period: float = 1.0,
                  chunk_size: int = 4 * 1024 * 1024, file_name: str | None = None) -> None:
         self.directory = Path(directory)
         self.directory.mkdir(parents=True, exist_ok=True)
         self.path = self.directory / (file_name or f'{self.directory.name}_0.mcap')
         self._stream = open(self.path, 'wb')
-        self._writer = Writer(self._stream, chunk_size=chunk_size, compression=CompressionType.ZSTD)
+        self._writer = Writer(self._stream, chunk_size=chunk_size, compression=CompressionType.ZSTD,
+                              enable_data_crcs=True)
         self._writer.start(profile='ros2', library='tethersim')
         self._schemas: dict[str, int] = {}
         self._topics: dict[str, _Topic] = {}
         self._flush_period = flush_period
         self._last_flush = time.monotonic()
+        self._chunk_period_ns = round(chunk_period * 1e9)
+        self._chunk_end_ns: int | None = None
         self._first_ns: int | None = None
         self._last_ns = 0
         self._closed = False
@@ -132,6 +140,11 @@ class BagWriter:
     def write(self, topic: str, data: bytes, log_time_ns: int, publish_time_ns: int | None = None) -> None:
         """Append one serialized message of a registered topic."""
         entry = self._topics[topic]
+        if self._chunk_end_ns is None or log_time_ns >= self._chunk_end_ns:
+            if self._chunk_end_ns is not None:
+                self._writer.flush()
+                self._last_flush = time.monotonic()
+            self._chunk_end_ns = (log_time_ns // self._chunk_period_ns + 1) * self._chunk_period_ns
         self._writer.add_message(
             channel_id=entry.channel_id, log_time=log_time_ns, data=data,
             publish_time=log_time_ns if publish_time_ns is None else publish_time_ns, sequence=0)

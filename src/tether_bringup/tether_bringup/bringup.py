@@ -36,12 +36,14 @@ from ament_index_python.packages import get_package_prefix
 from rclpy.node import Node
 from rclpy.signals import SignalHandlerOptions
 
-from tether_bringup.bag_info import bag_summary_lines
+from tether_bringup.bag_info import describe_bag
 from tether_bringup.bag_recover import recover_bag
+from tether_bringup.bag_reader import read_bag
 from tether_bringup.bag_reader import resolve_bag
 from tether_bringup.barrier import Barrier
 from tether_bringup.environment import run_environment
 from tether_bringup.errors import BagError
+from tether_bringup.errors import GraphConflictError
 from tether_bringup.errors import RunDirectoryError
 from tether_bringup.errors import RunError
 from tether_bringup.graph_snapshot import write_graph
@@ -177,6 +179,11 @@ def execute(nodes: list[NodeConfig], source, options: RunOptions) -> int:
         _wait_for(lambda: barrier.reached(0), READY_TIMEOUT, children, executor,
                   lambda: f'{", ".join(barrier.behind(0))} did not join the lockstep within {{:.0f}} s '
                           '(a node joins once each of its inputs has a publisher)')
+        contested = source.contested(node)
+        if contested:
+            raise GraphConflictError('replayed topic(s) published by the scene\'s own nodes too, refused (two sources '
+                                     'of one topic): ' + '; '.join(f'{topic} by {", ".join(nodes)}'
+                                                                    for topic, nodes in sorted(contested.items())))
         write_graph(out / 'graph.yaml', node, set(options.exclude), streamed_topics(ready_file))
         failure = _advance(source, barrier, children, executor, options, cpu)
         if failure:
@@ -185,7 +192,7 @@ def execute(nodes: list[NodeConfig], source, options: RunOptions) -> int:
         status = 128 + stop.signum
         failure = f'interrupted by {signal.Signals(stop.signum).name} at sim time {source.sim_time:.2f} s'
     except RunError as error:
-        status = 1
+        status = error.exit_status
         failure = str(error)
     finally:
         if stream is not None:
@@ -202,8 +209,6 @@ def execute(nodes: list[NodeConfig], source, options: RunOptions) -> int:
         executor.remove_node(node)
         node.destroy_node()
         rclpy.try_shutdown()
-        for sig, handler in previous.items():
-            signal.signal(sig, handler)
 
     wall = time.monotonic() - wall_start
     lines = _summary(options, source, children, wall, failure, cpu, read_cpu(out / 'logs' / f'{GROUP_NAME}.cpu.yaml'))
@@ -211,27 +216,17 @@ def execute(nodes: list[NodeConfig], source, options: RunOptions) -> int:
     figures: dict = {}
     if recorder is not None and recorder.returncode not in (0, None) and status == 0:
         status = 1
-    bag_dir = out / 'bag'
-    if any(bag_dir.glob('*.mcap')):
-        try:
-            recovery = recover_bag(bag_dir)
-            bag_lines = ([recovery.line()] if recovery else []) + bag_summary_lines(bag_dir)
-        except BagError as error:
-            lines.append(f'no recording: {error}')
-            status = status or 1
-        else:
-            lines += bag_lines
-            report_lines, report_failed, figures = _reports(options.reports, bag_dir, out)
-            lines += report_lines
-            lines += [f'plot: {png}' for png in sorted(out.glob('*.png'))]
-            if report_failed and status == 0:
-                status = 1
+    for sig in (signal.SIGINT, signal.SIGTERM):
+        signal.signal(sig, _on_signal)
+    status = _finish(out, options.reports, lines, status, figures)
     text = '\n'.join(lines) + '\n'
     (out / 'summary.txt').write_text(text)
     _write_figures(out / FIGURES_FILE, _run_figures(source, children, wall, failure, cpu, status), figures)
     print(text, end='', flush=True)
     if failure:
         print(f'tethersim: error: {failure}', file=sys.stderr, flush=True)
+    for sig, handler in previous.items():
+        signal.signal(sig, handler)
     return status
 
 
@@ -241,6 +236,58 @@ def _live_parameters(options: RunOptions, out: Path) -> dict:
         return {}
     return {'live_host': options.live[0], 'live_port': options.live[1], 'live_stats_file': str(out / LIVE_STATS),
             'live_wait': options.live_wait}
+
+
+def _finish(out: Path, reports: tuple[str, ...], lines: list[str], status: int, figures: dict) -> int:
+    """Verify the recorded bag, recover it if damaged, run the reports; add their lines and their figures (data) to
+    ``figures``; return the exit status.
+
+    The bag the recorder finalized is read whole (:func:`tether_bringup.bag_reader.read_bag`:
+    every chunk's CRC, the data section's and the summary's): ``bag verified``, or the run
+    fails and the damaged bag is rewritten with what is intact, saying what was dropped. A
+    SIGINT or SIGTERM in this phase (the caller installs :func:`_on_signal`) stops it; the
+    lines say what was not done. Signals are ignored once this returns.
+    """
+    step = ['verifying the bag']
+    try:
+        status = _verify_and_report(out, reports, lines, status, step, figures)
+    except _Stop as stop:
+        for sig in (signal.SIGINT, signal.SIGTERM):
+            signal.signal(sig, signal.SIG_IGN)
+        name = signal.Signals(stop.signum).name
+        lines.append(f'interrupted by {name} while {step[0]}: ' + (
+            'the bag is not verified and no report was run' if step[0] == 'verifying the bag' else
+            'the lines above are all the reports did'))
+        status = status or 128 + stop.signum
+    finally:
+        for sig in (signal.SIGINT, signal.SIGTERM):
+            signal.signal(sig, signal.SIG_IGN)
+    lines += [f'plot: {png}' for png in sorted(out.glob('*.png'))]
+    return status
+
+
+def _verify_and_report(out: Path, reports: tuple[str, ...], lines: list[str], status: int, step: list[str],
+                       figures: dict) -> int:
+    bag_dir = out / 'bag'
+    if not any(bag_dir.glob('*.mcap')):
+        return status
+    try:
+        bag = read_bag(bag_dir, allow_damaged=True)
+        recovery = None if bag.complete else recover_bag(bag_dir)
+    except BagError as error:
+        lines.append(f'no recording: {error}')
+        return status or 1
+    if recovery is None:
+        lines.append(f'bag verified: {bag.checked_line()}')
+        lines += describe_bag(bag)
+    else:
+        lines.append(f'bag verification FAILED: damaged at {bag.damage_line()}')
+        lines.append(recovery.line())
+        lines += describe_bag(read_bag(bag_dir))
+        status = status or 1
+    step[0] = 'running the reports'
+    report_failed = _reports(reports, bag_dir, out, lines, figures)
+    return 1 if report_failed and status == 0 else status
 
 
 def _bringup_program(name: str) -> str:
@@ -290,10 +337,17 @@ def _check_children(children: list[ChildProcess]) -> None:
     for child in children:
         code = child.poll()
         if code is not None and not child.stop_requested:
-            tail = '\n'.join(f'    {line}' for line in child.tail(10))
             which = f'node {child.name}' if child.members == (child.name,) else \
                 f'node group {child.name} ({", ".join(child.members)})'
-            raise RunError(f'{which} died with exit status {code}; last lines of {child.log_path}:\n{tail}')
+            raise RunError(f'{which} died with exit status {code}; {_log_tail(child, 10)}')
+
+
+def _log_tail(child: ChildProcess, count: int) -> str:
+    """``last lines of LOG:`` and its last ``count`` lines indented, or that the log is empty."""
+    tail = child.tail(count)
+    if not any(line.strip() for line in tail):
+        return f'its log {child.log_path} is empty (it wrote nothing before it ended)'
+    return f'last lines of {child.log_path}:\n' + '\n'.join(f'    {line}' for line in tail)
 
 
 def _wait_for(condition, timeout: float, children, executor, message) -> None:
@@ -320,10 +374,10 @@ def _wait_for_barrier(barrier: Barrier, time_ns: int, children, executor) -> Non
         _check_children(children)
         if time.monotonic() - last_progress > STALL_TIMEOUT:
             behind = barrier.behind(time_ns)
-            tails = '\n'.join(f'    {line}' for child in children
-                              if any(f'/{member}' in behind for member in child.members) for line in child.tail(5))
+            tails = '; '.join(_log_tail(child, 5) for child in children
+                              if any(f'/{member}' in behind for member in child.members))
             raise RunError(f'lockstep stalled at sim time {time_ns / 1e9:.3f} s: no ack from '
-                           f'{", ".join(behind)} within {STALL_TIMEOUT:.0f} s; last log lines:\n{tails}')
+                           f'{", ".join(behind)} within {STALL_TIMEOUT:.0f} s' + (f'; {tails}' if tails else ''))
 
 
 class RunCpu:
@@ -469,14 +523,13 @@ def _summary(options: RunOptions, source, children, wall: float, failure: str | 
     return lines
 
 
-def _reports(reports: tuple[str, ...], bag_dir: Path, out: Path) -> tuple[list[str], bool, dict]:
-    """Run the scene's reports: their lines, whether one failed, and the figures of those that give them
-    (:class:`tether_common.report_figures.ReportLines`).
+def _reports(reports: tuple[str, ...], bag_dir: Path, out: Path, lines: list[str], figures: dict) -> bool:
+    """Run each report, adding its lines to ``lines`` as it ends and the figures of those that give them
+    (:class:`tether_common.report_figures.ReportLines`) to ``figures``; True if one failed. A signal
+    (:class:`_Stop`) ends the phase: the report it interrupted and those not run are named.
     """
-    lines: list[str] = []
     failed = False
-    figures: dict = {}
-    for report in reports:
+    for number, report in enumerate(reports):
         module_name, _, function_name = report.partition(':')
         try:
             function = getattr(importlib.import_module(module_name), function_name)
@@ -484,10 +537,14 @@ def _reports(reports: tuple[str, ...], bag_dir: Path, out: Path) -> tuple[list[s
             lines += list(result)
             for name, value in getattr(result, 'figures', {}).items():
                 figures[f'{function_name}.{name}' if name in figures else name] = value
+        except _Stop as stop:
+            lines.append(f'report {report} interrupted by {signal.Signals(stop.signum).name}; not run: '
+                         + (', '.join(reports[number + 1:]) or 'none'))
+            raise
         except Exception as error:  # a report's failure must not hide the run's other results
             lines.append(f'report {report} failed: {type(error).__name__}: {error}')
             failed = True
-    return lines, failed, figures
+    return failed
 
 
 def _run_figures(source, children: list[ChildProcess], wall: float, failure: str | None, cpu: RunCpu,

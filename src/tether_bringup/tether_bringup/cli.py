@@ -34,8 +34,11 @@ def _domain(text: str) -> int:
         value = int(text)
     except ValueError:
         raise argparse.ArgumentTypeError(f'expected an integer, got {text!r}') from None
-    if not 0 <= value <= 232:
-        raise argparse.ArgumentTypeError(f'expected a ROS domain id in [0, 232], got {value}')
+    if value == 0:
+        raise argparse.ArgumentTypeError('expected a ROS domain id in [1, 232], got 0: ROS\'s default domain, which '
+                                         'every ROS 2 process on the network that sets none joins')
+    if not 1 <= value <= 232:
+        raise argparse.ArgumentTypeError(f'expected a ROS domain id in [1, 232], got {value}')
     return value
 
 
@@ -45,7 +48,8 @@ def _rate(text: str) -> float:
 
 def _add_network(parser: argparse.ArgumentParser) -> None:
     parser.add_argument('--domain-id', type=_domain, default=None,
-                        help='ROS_DOMAIN_ID of the run (default: a private one in 1-100 reserved for the run)')
+                        help='ROS_DOMAIN_ID of the run, 1-232 (default: a private one in 1-100 reserved for the run; '
+                             'one given in 1-100 is reserved too, and refused while another run holds it)')
     parser.add_argument('--discovery', choices=('localhost', 'subnet'), default='localhost',
                         help='DDS discovery range: localhost (default) or subnet to span machines')
 
@@ -106,17 +110,28 @@ def _replay_arguments(replay: argparse.ArgumentParser) -> None:
     replay.add_argument('--clock-step', type=positive(), default=0.01, help='s of bag time between /clock ticks')
     replay.add_argument('--out', type=Path, help='run directory (default: runs/replay-<time>)')
     _add_live(replay)
+    _add_allow_damaged(replay)
     _add_network(replay)
+
+
+def _add_allow_damaged(parser: argparse.ArgumentParser) -> None:
+    from tether_bringup.bag_reader import ALLOW_OPTION
+    parser.add_argument(ALLOW_OPTION, action='store_true',
+                        help='read what is intact in a damaged bag (chunks failing their CRC check skipped, and said '
+                             'so) instead of refusing it')
 
 
 def _bag_arguments(bag: argparse.ArgumentParser) -> None:
     bag_commands = bag.add_subparsers(dest='bag_command', required=True, parser_class=OneLineParser)
-    info = bag_commands.add_parser('info', help='topics, types, counts, rates, duration')
+    info = bag_commands.add_parser('info', help='topics, types, counts, rates, duration, damage')
     info.add_argument('bag')
+    info.add_argument('--check', action='store_true',
+                      help='also decode every message; list every damaged place; exit 2 if the bag is damaged')
     export = bag_commands.add_parser('export', help='one topic as CSV, one row per message')
     export.add_argument('bag')
     export.add_argument('--topic', required=True)
     export.add_argument('--csv', required=True, type=Path)
+    _add_allow_damaged(export)
     recover = bag_commands.add_parser('recover', help='rewrite a damaged or unfinalized bag as a finalized one')
     recover.add_argument('bag')
 
@@ -147,6 +162,7 @@ def _run(args: argparse.Namespace) -> int:
 
 def _replay(args: argparse.Namespace) -> int:
     from tether_bringup.bag_reader import read_bag
+    from tether_bringup.bag_reader import ALLOW_OPTION
     from tether_bringup.bringup import RunOptions
     from tether_bringup.bringup import execute
     from tether_bringup.environment import reserved_domain
@@ -156,7 +172,7 @@ def _replay(args: argparse.Namespace) -> int:
     from tether_bringup.scene import load_scene
     from tether_bringup.time_sources import BagPlayback
 
-    bag = read_bag(args.bag)
+    bag = read_bag(args.bag, allow_damaged=args.allow_damaged)
     missing = [t for t in args.topics or [] if t not in bag.topics]
     if missing:
         raise BagError(f'{bag.path}: no messages on {", ".join(missing)} (topics: {", ".join(sorted(bag.topics))})')
@@ -167,7 +183,7 @@ def _replay(args: argparse.Namespace) -> int:
         raise BagError(f'{bag.path}: nothing to replay' + (f' (damaged at {bag.damage_line()})' if bag.damage else ''))
     if bag.damage:
         print(f'tethersim: warning: {bag.path} is damaged at {bag.damage_line()}; replaying its '
-              f'{len(messages)} intact messages', file=sys.stderr, flush=True)
+              f'{len(messages)} intact messages ({ALLOW_OPTION})', file=sys.stderr, flush=True)
     nodes, exclude, reports, name, compose = [], list(DEFAULT_EXCLUDE), [], 'replay', True
     if args.scene:
         scene = load_scene(find_scene(args.scene))
@@ -192,10 +208,16 @@ def _scenes(args: argparse.Namespace) -> int:
 
 
 def _bag(args: argparse.Namespace) -> int:
-    from tether_bringup.bag_info import bag_summary_lines
+    from tether_bringup.bag_info import describe_bag
     from tether_bringup.bag_info import export_csv
+    from tether_bringup.bag_info import read_for_info
+    from tether_bringup.bag_reader import damaged_bags_allowed
     if args.bag_command == 'info':
-        print('\n'.join(bag_summary_lines(args.bag)))
+        bag = read_for_info(args.bag, check=args.check)
+        print('\n'.join(describe_bag(bag, check=args.check)))
+        if args.check and bag.damage:
+            print(f'tethersim bag info: error: {bag.path} is damaged at {bag.damage_line()}', file=sys.stderr)
+            return 2
         return 0
     if args.bag_command == 'recover':
         from tether_bringup.bag_recover import recover_bag
@@ -203,8 +225,11 @@ def _bag(args: argparse.Namespace) -> int:
         recovery = recover_bag(args.bag)
         print(recovery.line() if recovery else f'{resolve_bag(args.bag)}: finalized and undamaged; nothing to recover')
         return 0
-    rows = export_csv(args.bag, args.topic, args.csv)
+    with damaged_bags_allowed(args.allow_damaged) as damaged:
+        rows = export_csv(args.bag, args.topic, args.csv)
     print(f'wrote {rows} rows of {args.topic} to {args.csv}')
+    for bag in damaged:
+        print('\n'.join(bag.skipped_lines()))
     return 0
 
 

@@ -18,6 +18,14 @@ class BagError(TethersimError):
 class RunError(TethersimError):
     """A run could not start or a node failed during it (exit status 1)."""
 
+    exit_status = 1
+
+
+class GraphConflictError(RunError):
+    """The run's graph contradicts what was asked (a replayed topic the scene publishes too): exit status 2."""
+
+    exit_status = 2
+
 
 class RunDirectoryError(TethersimError):
     """The run directory cannot be used (it already holds a recording)."""

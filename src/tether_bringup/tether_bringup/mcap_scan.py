@@ -3,10 +3,13 @@
 The MCAP readers stop with an exception at the first damaged byte. This walk reads the
 file linearly with every length checked against the bytes that are left, every chunk
 decompressed and checked against its CRC and size, every MessageIndex checked against the
-chunk before it, the data section and summary CRCs checked where the file has them, and
-the closing magic checked. A damaged chunk whose frame is intact is skipped and the walk
+chunk before it, the data section and summary CRCs checked where the file has them (the
+data section's named only when no damage in it was found otherwise), and the closing magic
+checked. A damaged chunk whose frame is intact is skipped and the walk
 goes on; damage to the record framing (a cut, a damaged length or opcode) ends it. What
-was read before and around the damage is returned with one description per damaged place.
+was read before and around the damage is returned with one description per damaged place;
+a skipped chunk's description holds its time range and, from the MessageIndex records that
+follow it, how many messages of each channel it held.
 
 Record layout: MCAP specification, https://mcap.dev/spec (opcodes, Chunk, Footer CRCs).
 """
@@ -43,13 +46,34 @@ PARSE_ERRORS = (struct.error, McapError, ValueError, EOFError, MemoryError)
 
 @dataclass
 class Damage:
-    """One damaged place of a file: its byte offset and what is wrong there."""
+    """One damaged place of a file: its byte offset and what is wrong there.
+
+    For a chunk whose messages were skipped: ``lost``, the messages of each channel id it
+    held that were not read (from the MessageIndex records after it), and ``lost_topics``,
+    the same by topic name once the channels are known. ``unknown`` says why the messages
+    lost there cannot be counted (a chunk no index follows, a file cut short), if so.
+    """
 
     offset: int
     reason: str
+    lost: dict[int, int] = field(default_factory=dict)
+    lost_topics: dict[str, int] = field(default_factory=dict)
+    unknown: str = ''
+
+    @property
+    def lost_count(self) -> int | None:
+        """Messages the damaged place cost (0 if none), or None if that is unknown."""
+        return None if self.unknown else sum(self.lost.values())
 
     def __str__(self) -> str:
-        return f'byte {self.offset}: {self.reason}'
+        text = f'byte {self.offset}: {self.reason}'
+        if self.unknown:
+            return f'{text} (messages lost: unknown, {self.unknown})'
+        if not self.lost_count:
+            return text
+        held = self.lost_topics or {f'channel {channel}': count for channel, count in self.lost.items()}
+        return f'{text} ({self.lost_count} messages lost: ' + ', '.join(
+            f'{topic} {count}' for topic, count in sorted(held.items()) if count) + ')'
 
 
 @dataclass
@@ -57,6 +81,9 @@ class ScannedFile:
     """What the walk recovered: schemas, channels, messages in file order, damage found."""
 
     size: int
+    chunks: int = 0
+    crcs: set[str] = field(default_factory=set)
+    """The CRCs the file has and the walk checked: ``chunk`` (every chunk has one), ``data section``, ``summary``."""
     schemas: dict[int, Schema] = field(default_factory=dict)
     channels: dict[int, Channel] = field(default_factory=dict)
     messages: list[Message] = field(default_factory=list)
@@ -117,7 +144,8 @@ def _decompress(chunk: Chunk) -> bytes:
 
 
 def _time_range(start_ns: int, end_ns: int) -> str:
-    return f'log time {start_ns / 1e9:.3f}-{end_ns / 1e9:.3f} s'
+    """A chunk's log-time range: the sim time of what it holds in a tethersim bag (the recorder logs stamps)."""
+    return f'sim time {start_ns / 1e9:.3f}-{end_ns / 1e9:.3f} s'
 
 
 class _Walk:
@@ -137,9 +165,24 @@ class _Walk:
         self.summary_records: list[Schema | Channel] = []
         self.footer: Footer | None = None
         self.footer_offset = 0
+        self.chunk_without_crc = False
+        self.skipped: tuple[Damage, dict[int, int]] | None = None
+        """The damaged chunk just walked and the messages of each channel read from it, until its MessageIndexes end."""
 
-    def damaged(self, offset: int, reason: str) -> None:
-        self.out.damage.append(Damage(offset, reason))
+    def damaged(self, offset: int, reason: str, unknown: str = '') -> Damage:
+        damage = Damage(offset, reason, unknown=unknown)
+        self.out.damage.append(damage)
+        return damage
+
+    def ended(self, offset: int, reason: str) -> None:
+        """Damage that ends the walk: what the data section held after it is lost, uncounted."""
+        self.damaged(offset, reason, unknown='' if self.data_end is not None else
+                     'the file is not readable after this byte')
+
+    def chunk_damaged(self, offset: int, reason: str, read: dict[int, int]) -> None:
+        """A chunk whose messages (all, or those not in ``read``) are skipped: count them from its MessageIndexes."""
+        damage = self.damaged(offset, reason, unknown='no index follows the chunk')
+        self.skipped = (damage, read)
 
     def run(self) -> None:
         size = self.out.size
@@ -148,20 +191,22 @@ class _Walk:
             header = self.stream.read(RECORD_HEADER.size)
             if not header:
                 self.damaged(pos, 'the file ends here without a Footer: it was not finalized '
-                                  '(the recorder was killed or the file was cut)')
+                                  '(the recorder was killed or the file was cut)',
+                             unknown='' if self.data_end is not None else
+                             'whatever was recorded after this byte is missing')
                 return
             if len(header) < RECORD_HEADER.size:
-                self.damaged(pos, f'the file is cut inside a record header ({len(header)} of 9 bytes present)')
+                self.ended(pos, f'the file is cut inside a record header ({len(header)} of 9 bytes present)')
                 return
             opcode, length = RECORD_HEADER.unpack(header)
             name = _name(opcode)
             if opcode < 0x80 and opcode not in Opcode.__members__.values():
-                self.damaged(pos, f'unknown record opcode 0x{opcode:02x}: the record framing is damaged')
+                self.ended(pos, f'unknown record opcode 0x{opcode:02x}: the record framing is damaged')
                 return
             remaining = size - pos - RECORD_HEADER.size
             if length > remaining:
-                self.damaged(pos, f'the {name} record begun here needs {length} bytes but the file ends '
-                                  f'{remaining} bytes later (cut short, or its length field is damaged)')
+                self.ended(pos, f'the {name} record begun here needs {length} bytes but the file ends '
+                                f'{remaining} bytes later (cut short, or its length field is damaged)')
                 return
             content = self.stream.read(length)
             self.crc_before_record = self.crc
@@ -169,6 +214,8 @@ class _Walk:
             if self.data_end is not None:
                 self.summary_crc = zlib.crc32(content if opcode != Opcode.FOOTER else content[:FOOTER_CRC_SPAN],
                                               zlib.crc32(header, self.summary_crc))
+            if opcode != Opcode.MESSAGE_INDEX:
+                self.skipped = None
             try:
                 if opcode in self.handlers:
                     self.handlers[opcode](_parse(opcode, content), pos)
@@ -197,16 +244,19 @@ class _Walk:
 
     def _chunk(self, chunk: McapRecord, pos: int) -> None:
         assert isinstance(chunk, Chunk)
+        self.out.chunks += 1
         self.chunk_index = None
         where = _time_range(chunk.message_start_time, chunk.message_end_time)
         try:
             data = _decompress(chunk)
             if len(data) != chunk.uncompressed_size:
                 raise _Malformed(f'{len(data)} bytes uncompressed, its header says {chunk.uncompressed_size}')
-            if chunk.uncompressed_crc and zlib.crc32(data) != chunk.uncompressed_crc:
+            if not chunk.uncompressed_crc:
+                self.chunk_without_crc = True
+            elif zlib.crc32(data) != chunk.uncompressed_crc:
                 raise _Malformed('its content fails the CRC check')
         except _Malformed as error:
-            self.damaged(pos, f'Chunk ({where}) is corrupt: {error}; its messages are skipped')
+            self.chunk_damaged(pos, f'Chunk ({where}) is corrupt: {error}', {})
             return
         index: dict[int, list[tuple[int, int]]] = {}
         self.chunk_index = index
@@ -214,13 +264,14 @@ class _Walk:
         times = []
         while inner < len(data):
             if len(data) - inner < RECORD_HEADER.size:
-                self.damaged(pos, f'Chunk ({where}) ends inside a record header; the rest of it is skipped')
+                self.chunk_damaged(pos, f'Chunk ({where}) ends inside a record header; the rest of it is skipped',
+                                   _counts(index))
                 return
             opcode, length = RECORD_HEADER.unpack_from(data, inner)
             start = inner + RECORD_HEADER.size
             if length > len(data) - start:
-                self.damaged(pos, f'Chunk ({where}) holds a {_name(opcode)} longer than the chunk; '
-                                  'the rest of it is skipped')
+                self.chunk_damaged(pos, f'Chunk ({where}) holds a {_name(opcode)} longer than the chunk; '
+                                        'the rest of it is skipped', _counts(index))
                 return
             if opcode in (Opcode.SCHEMA, Opcode.CHANNEL, Opcode.MESSAGE):
                 record: McapRecord | None
@@ -241,14 +292,21 @@ class _Walk:
 
     def _message_index(self, record: McapRecord, pos: int) -> None:
         assert isinstance(record, MessageIndex)
+        if self.skipped is not None:
+            damage, read = self.skipped
+            damage.unknown = ''
+            damage.lost[record.channel_id] = max(0, len(record.records) - read.get(record.channel_id, 0))
         if self.chunk_index is not None and sorted(record.records) != sorted(self.chunk_index.get(record.channel_id, [])):
             self.damaged(pos, f'MessageIndex of channel {record.channel_id} does not match the chunk before it')
 
     def _data_end(self, record: McapRecord, pos: int) -> None:
         assert isinstance(record, DataEnd)
         self.data_end = self.stream.tell()
-        if record.data_section_crc and record.data_section_crc != self.crc_before_record:
-            self.damaged(pos, 'the data section fails its CRC check')
+        if record.data_section_crc:
+            self.out.crcs.add('data section')
+        if record.data_section_crc and record.data_section_crc != self.crc_before_record and not self.out.damage:
+            self.damaged(pos, 'the data section fails its CRC check, though every chunk in it passes its own: '
+                              'a record outside the chunks is damaged')
 
     def _footer(self, record: McapRecord, pos: int) -> None:
         assert isinstance(record, Footer)
@@ -261,6 +319,8 @@ class _Walk:
         elif record.summary_start and record.summary_crc and record.summary_crc != self.summary_crc:
             self.damaged(self.data_end, 'the summary section (the index readers use) fails its CRC check')
         else:
+            if record.summary_start and record.summary_crc:
+                self.out.crcs.add('summary')
             for summary_record in self.summary_records:
                 table = self.out.schemas if isinstance(summary_record, Schema) else self.out.channels
                 table.setdefault(summary_record.id, summary_record)  # type: ignore[arg-type]
@@ -275,8 +335,14 @@ class _Walk:
             self.damaged(pos + len(MAGIC), f'{extra} bytes follow the end of the MCAP file')
 
 
+def _counts(index: dict[int, list[tuple[int, int]]]) -> dict[int, int]:
+    return {channel: len(entries) for channel, entries in index.items()}
+
+
 def scan(stream: BinaryIO, size: int) -> ScannedFile:
     """Walk an MCAP file of ``size`` bytes whose 8 magic bytes ``stream`` has already yielded."""
     walk = _Walk(stream, size)
     walk.run()
+    if walk.out.chunks and not walk.chunk_without_crc:
+        walk.out.crcs.add('chunk')
     return walk.out

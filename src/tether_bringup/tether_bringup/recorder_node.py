@@ -122,7 +122,8 @@ class Recorder(Node):
     def __init__(self) -> None:
         super().__init__('recorder')
         self.params = declare_parameters(self, PARAMETERS)
-        self.bag = BagWriter(self.params['bag_directory'], flush_period=self.params['flush_period'])
+        self.bag = BagWriter(self.params['bag_directory'], flush_period=self.params['flush_period'],
+                             chunk_period=self.params['chunk_period'])
         if self.params['live_port'] >= 0:
             self.bag = LiveBag(self.bag, LiveServer(self.params['live_host'], self.params['live_port'],
                                                     self.params['live_stats_file'], self.params['live_wait']))

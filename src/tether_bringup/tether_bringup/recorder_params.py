@@ -20,6 +20,7 @@ PARAMETERS = (
     ParamSpec('discovery_period', 0.1, 'Period of the topic discovery', 's', 0.01, 5.0),
     ParamSpec('settle_time', 1.0, 'Quiet time of the graph before reporting ready', 's', 0.0, 10.0),
     ParamSpec('flush_period', 1.0, 'Longest time data waits in an unwritten chunk', 's', 0.05, 10.0),
+    ParamSpec('chunk_period', 1.0, 'Sim time one chunk spans at most: what one damaged chunk costs', 's', 0.01, 60.0),
     ParamSpec('queue_depth', 1000, 'Subscription queue depth per topic', '', 1, 100000),
     ParamSpec('stream_fd', -1, 'Read end of the node group\'s recording stream (a pipe), -1 for none', '', -1, 65535),
     ParamSpec('stream_nodes', [], 'Fully qualified names of the node group\'s nodes, whose topics come from '

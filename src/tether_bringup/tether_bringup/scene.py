@@ -110,6 +110,8 @@ def find_scene(name_or_path: str) -> Path:
     """Resolve a scene given by name (installed scenes) or by path to a YAML file."""
     candidate = Path(name_or_path)
     if candidate.suffix in ('.yaml', '.yml') or candidate.exists():
+        if candidate.is_dir():
+            raise SceneError(f'{name_or_path}: a directory, not a scene file (give a scene name or a YAML file)')
         if not candidate.is_file():
             raise SceneError(f'{name_or_path}: scene file not found')
         return candidate
@@ -136,9 +138,14 @@ def load_scene(path: str | Path) -> Scene:
     """Read and validate a scene file; raise :class:`SceneError` naming the first problem."""
     path = Path(path)
     try:
-        data = yaml.safe_load(path.read_text())
+        data = yaml.safe_load(path.read_text(encoding='utf-8'))
     except FileNotFoundError:
         raise SceneError(f'{path}: scene file not found') from None
+    except IsADirectoryError:
+        raise SceneError(f'{path}: a directory, not a scene file') from None
+    except UnicodeDecodeError as error:
+        raise SceneError(f'{path}: not a UTF-8 text file (byte {error.start} is 0x{error.object[error.start]:02x}); '
+                         'a scene is YAML in UTF-8') from None
     except OSError as error:
         raise SceneError(f'{path}: cannot read scene file ({error.strerror})') from None
     except yaml.YAMLError as error:

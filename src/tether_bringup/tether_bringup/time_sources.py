@@ -47,6 +47,10 @@ class PacedClock:
         """Sim time at which the run ends, s."""
         return self.duration
 
+    def contested(self, node: Node) -> dict[str, list[str]]:
+        """No topic is replayed: none is contested."""
+        return {}
+
     def matched(self, node: Node) -> bool:
         """The paced clock has no publishers but /clock (checked by the bringup)."""
         return True
@@ -114,6 +118,13 @@ class BagPlayback:
     def matched(self, node: Node) -> bool:
         """True once every replay publisher has matched every subscription in the graph."""
         return publishers_matched(node, self._publishers.values())
+
+    def contested(self, node: Node) -> dict[str, list[str]]:
+        """Replayed topics that a node of the graph publishes too, with those nodes: two sources of one topic."""
+        own = node.get_name()
+        others = {topic: sorted({info.node_name for info in node.get_publishers_info_by_topic(topic)} - {own})
+                  for topic in self._topics}
+        return {topic: nodes for topic, nodes in others.items() if nodes}
 
     @property
     def sim_time(self) -> float:

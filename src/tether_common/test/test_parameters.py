@@ -58,3 +58,16 @@ def test_empty_list_without_item_type_is_refused():
 def test_spec_table_refuses_duplicates():
     with pytest.raises(ValueError, match='specified twice'):
         spec_table((ParamSpec('a', 1, 'a'), ParamSpec('a', 2, 'b')))
+
+
+def test_a_vector_has_its_defaults_length_and_other_lists_any():
+    vector = ParamSpec('uav_position', [3.22, 0.0, 5.9], 'UAV attachment', 'm')
+    assert vector.fixed_length == 3 and vector.check([1, 2, 3]) is None
+    assert vector.check([3.22, 0.0]) == 'expected a list of 3 numbers (m), got 2: [3.22, 0.0]'
+    assert vector.check([1.0, 2.0, 3.0, 4.0]) == 'expected a list of 3 numbers (m), got 4: [1.0, 2.0, 3.0, 4.0]'
+    free = ParamSpec('weights', [1.0, 2.0], 'Any number of weights', length=0)
+    assert free.fixed_length is None and free.check([1.0]) is None
+    names = ParamSpec('exclude', ['/rosout'], 'Topics')
+    assert names.fixed_length is None and names.check([]) is None
+    pair = ParamSpec('pair', [], 'Two names', item_type=str, length=2)
+    assert pair.check(['a']) == "expected a list of 2 strings, got 1: ['a']"

@@ -10,7 +10,7 @@ Ctrl-C, SIGTERM and an external shutdown end the node normally (exit status 0), 
 while the node is still being built. A
 :class:`ConfigurationError` raised while the node is built (a bad parameter, a missing
 file), or rclpy's own refusal of a parameter value (a parameter declared without a
-specification, such as ``use_sim_time``), is printed as one line
+specification, such as ``use_sim_time``: a value of another type), is printed as one line
 ``<program>: error: parameter NAME: expected ..., got VALUE`` and ends the process with
 status 2, without a traceback; so is a :class:`ConfigurationError` raised while the node
 runs (an input breaking the lockstep's rules). So are ``--ros-args`` rcl cannot parse (a list mixing
@@ -125,8 +125,11 @@ def run_nodes(factories: dict[str, Callable[[], Node]], args: list[str] | None =
                     record.flush()
     except (KeyboardInterrupt, ExternalShutdownException):
         pass
-    except (ConfigurationError, ParameterException) as error:
+    except ConfigurationError as error:
         print(f'{building}: error: {error}', file=sys.stderr, flush=True)
+        status = 2
+    except ParameterException as error:
+        print(f'{building}: error: {_parameter_refusal(error)}', file=sys.stderr, flush=True)
         status = 2
     except Exception:
         if rclpy.ok():
@@ -146,6 +149,25 @@ def run_nodes(factories: dict[str, Callable[[], Node]], args: list[str] | None =
                 record.close()
             faulthandler.cancel_dump_traceback_later()
     return status
+
+
+_TYPE_WORDS = {'BOOL': 'a boolean', 'INTEGER': 'an integer', 'DOUBLE': 'a number', 'STRING': 'a string',
+               'BYTE_ARRAY': 'a list of bytes', 'BOOL_ARRAY': 'a list of booleans', 'INTEGER_ARRAY': 'a list of integers',
+               'DOUBLE_ARRAY': 'a list of numbers', 'STRING_ARRAY': 'a list of strings', 'NOT_SET': 'no value'}
+
+
+def _parameter_refusal(error: ParameterException) -> str:
+    """rclpy's refusal of a parameter of the wrong type in the project's words: ``parameter NAME: expected ...``.
+
+    rclpy's ``InvalidParameterTypeException`` keeps only its message and the parameter's name,
+    so the value and the types are taken from the message; any other refusal keeps rclpy's text.
+    """
+    match = re.search(r"parameter '(.+)' to '(.*)' of type '(\w+)', expecting type '(?:Type\.)?(\w+)'", str(error))
+    if match is None:
+        return str(error)
+    name, value, given, expected = match.groups()
+    return (f'parameter {name}: expected {_TYPE_WORDS.get(expected, expected)}, got {value} '
+            f'({_TYPE_WORDS.get(given, given)})')
 
 
 @contextmanager

@@ -25,6 +25,10 @@ class ParamSpec:
     the default), a value ending in ``file_suffix`` must be an existing file, relative
     paths taken from the working directory the node and the bringup share.
 
+    A list of numbers with a non-empty default is a vector of the default's length (a
+    position, a moment of inertia): a value of another length is refused, as one of any
+    length is with ``length=0``; ``length`` gives the length of another list.
+
     A parameter is ``read_only`` unless the node applies a new value while it runs: rclpy
     then refuses a run-time change of a value the node read once.
     """
@@ -39,6 +43,7 @@ class ParamSpec:
     item_type: type | None = None
     read_only: bool = True
     file_suffix: str = ''
+    length: int | None = None
     extra: dict = field(default_factory=dict, compare=False)
 
     @property
@@ -57,11 +62,22 @@ class ParamSpec:
             raise ValueError(f'parameter {self.name}: an empty list default needs item_type')
         return type(self.default[0])
 
+    @property
+    def fixed_length(self) -> int | None:
+        """The number of items a list value must have, or None for any number (see the class docstring)."""
+        if self.length is not None:
+            return self.length or None
+        if isinstance(self.default, list) and self.default and self.element_type in (int, float):
+            return len(self.default)
+        return None
+
     def expected(self) -> str:
         """Describe the accepted values in a few words, for error messages."""
         kind = self.kind
         if kind is list:
-            text = f'a list of {_type_name(self.element_type)}'
+            count = self.fixed_length
+            text = (f'a list of {_type_name(self.element_type)}' if count is None else
+                    f'a list of {count} {_PLURAL.get(self.element_type, str(self.element_type))}')
         else:
             text = _type_name(kind)
         if self.choices:
@@ -81,6 +97,8 @@ class ParamSpec:
         if self.kind is list:
             if not isinstance(value, list):
                 return f'expected {self.expected()}, got {value!r}'
+            if self.fixed_length is not None and len(value) != self.fixed_length:
+                return f'expected {self.expected()}, got {len(value)}: {value!r}'
             for item in value:
                 reason = self._check_scalar(item, self.element_type)
                 if reason:
@@ -121,6 +139,9 @@ class ParamSpec:
         if not Path(value).is_file():
             return f'file not found: {value}'
         return None
+
+
+_PLURAL = {bool: 'booleans', int: 'integers', float: 'numbers', str: 'strings'}
 
 
 def _type_name(kind: type | None) -> str:
