@@ -186,6 +186,9 @@ def execute(nodes: list[NodeConfig], source, options: RunOptions) -> int:
         for sig, handler in previous.items():
             signal.signal(sig, handler)
 
+    late = None if failure else _failed_when_stopped(children)
+    if late:
+        status, failure = 1, late
     wall = time.monotonic() - wall_start
     lines = _summary(options, source, children, wall, failure, cpu, read_cpu(out / 'logs' / f'{GROUP_NAME}.cpu.yaml'))
     if recorder is not None and recorder.returncode not in (0, None) and status == 0:
@@ -260,10 +263,29 @@ def _check_children(children: list[ChildProcess]) -> None:
     for child in children:
         code = child.poll()
         if code is not None and not child.stop_requested:
-            tail = '\n'.join(f'    {line}' for line in child.tail(10))
-            which = f'node {child.name}' if child.members == (child.name,) else \
-                f'node group {child.name} ({", ".join(child.members)})'
-            raise RunError(f'{which} died with exit status {code}; last lines of {child.log_path}:\n{tail}')
+            raise RunError(_death(child, 'died'))
+
+
+def _death(child: ChildProcess, how: str) -> str:
+    """A child's end in words: its exit status and its cause first (its last error line), then its last lines."""
+    lines = child.tail(10)
+    tail = '\n'.join(f'    {line}' for line in lines)
+    which = f'node {child.name}' if child.members == (child.name,) else \
+        f'node group {child.name} ({", ".join(child.members)})'
+    cause = next((line for line in reversed(lines) if '[ERROR]' in line or ': error: ' in line), '')
+    cause = cause.rpartition(']: ')[2] if '[ERROR]' in cause else cause
+    return (f'{which} {how} with exit status {child.returncode}' + (f': {cause}' if cause else '')
+            + f'; last lines of {child.log_path}:\n{tail}')
+
+
+def _failed_when_stopped(children: list[ChildProcess]) -> str | None:
+    """A node that, asked to stop at the end, exited with a status of its own other than 0 (the sitl node
+    finding its autopilot dead): the run failed, with the node's cause.
+    """
+    for child in children:
+        if child.stop_requested and child.returncode is not None and child.returncode > 0:
+            return _death(child, 'ended')
+    return None
 
 
 def _wait_for(condition, timeout: float, children, executor, message) -> None:
