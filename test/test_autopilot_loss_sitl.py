@@ -2,8 +2,10 @@
 
 `tethersim run` of ``outdoor_flight_sitl`` with the station lowered to 10 m and SITL run by the
 test (so the test can kill, restart and reboot it while the run goes on), SITL at 10x and the
-graph at 5x (half, so the flight fits even when SITL falls behind its speed-up). Once the
-mission holds, the test takes the autopilot away:
+graph at 5x (half, so the flight fits even when SITL falls behind its speed-up), in the test's
+ROS domain. Once the UAV has kept station for 8 s of sim time (``/uav/pose`` stamps since it
+first came within 0.5 m of the station: the report's window opens 5 s after that), the test
+takes the autopilot away:
 
 * ``kill``: SIGKILL, not restarted: the mission ends (phase ``lost``) once the link has been
   down for its ``link_grace`` (10 s of sim time);
@@ -23,10 +25,16 @@ report lists the loss, the gap in the poses (and the reboot) and ends the statio
 
 from __future__ import annotations
 
+import os
+import threading
 import time
 
+import numpy as np
 import pytest
+import rclpy
+from geometry_msgs.msg import PoseStamped
 from pymavlink import mavutil
+from rclpy.executors import SingleThreadedExecutor
 
 from sitl_process import SitlProcess
 from sitl_process import sitl_unavailable
@@ -36,6 +44,7 @@ from tethersim_testing import processes_of
 from tethersim_testing import start_tethersim
 from tethersim_testing import write_scene
 from test_uav_bridge_peer import wait_until
+from tether_common.qos import SENSOR
 
 UNAVAILABLE = sitl_unavailable()
 pytestmark = [pytest.mark.skipif(UNAVAILABLE is not None, reason=UNAVAILABLE or ''), pytest.mark.long_run]
@@ -43,6 +52,39 @@ pytestmark = [pytest.mark.skipif(UNAVAILABLE is not None, reason=UNAVAILABLE or 
 MAV_CMD_PREFLIGHT_REBOOT_SHUTDOWN = 246
 FORCE = 20190226.0
 """param 6 of the reboot command: reboot even when armed."""
+STATION = (5.0, 0.0, 10.0)
+KEPT = 8.0
+"""s of sim time at the station before the autopilot is taken away."""
+
+
+class StationWatch:
+    """Follows ``/uav/pose`` in the run's domain: the stamp of the first pose within 0.5 m of the station, the latest."""
+
+    def __init__(self, context) -> None:
+        self.node = rclpy.create_node('station_watch', context=context)
+        self.arrived: float | None = None
+        self.latest = 0.0
+        self.node.create_subscription(PoseStamped, '/uav/pose', self._on_pose, SENSOR)
+        self.executor = SingleThreadedExecutor(context=context)
+        self.executor.add_node(self.node)
+        self.thread = threading.Thread(target=self.executor.spin, daemon=True)
+        self.thread.start()
+
+    def _on_pose(self, msg) -> None:
+        t = msg.header.stamp.sec + msg.header.stamp.nanosec * 1e-9
+        p = msg.pose.position
+        if self.arrived is None and np.linalg.norm(np.array([p.x, p.y, p.z]) - STATION) <= 0.5:
+            self.arrived = t
+        self.latest = t
+
+    def kept(self) -> bool:
+        """Whether the UAV has been at the station (since its arrival) for :data:`KEPT` s."""
+        return self.arrived is not None and self.latest - self.arrived >= KEPT
+
+    def close(self) -> None:
+        self.executor.shutdown()
+        self.thread.join(timeout=30)
+        self.node.destroy_node()
 
 
 def _log_lines(out) -> str:
@@ -62,7 +104,7 @@ def _reboot(sitl: SitlProcess) -> None:
 
 
 @pytest.mark.parametrize('event', ['kill', 'restart', 'reboot'])
-def test_the_mission_ends_with_its_reason_when_arducopter_is_lost_mid_hover(tmp_path, event):
+def test_the_mission_ends_with_its_reason_when_arducopter_is_lost_mid_hover(tmp_path, event, ros_context):
     sitl = SitlProcess(tmp_path / 'sitl', speedup=10.0)
     scene = installed_scene('outdoor_flight_sitl')
     del scene['nodes']['sitl']
@@ -71,10 +113,10 @@ def test_the_mission_ends_with_its_reason_when_arducopter_is_lost_mid_hover(tmp_
     out = tmp_path / 'run'
     sitl.start()
     run = start_tethersim('run', write_scene(scene, tmp_path / 'scene.yaml'), '--out', str(out), '--rate', '5',
-                          '--duration', '100')
+                          '--duration', '120', '--domain-id', os.environ['ROS_DOMAIN_ID'])
+    watch = StationWatch(ros_context)
     try:
-        wait_until(lambda: 'mission phase hold' in _log_lines(out), timeout=600, what='the hold')
-        time.sleep(4.0)         # 20 s of sim time: at the station, 5 m across, and 5 s into the station keeping
+        wait_until(watch.kept, timeout=600, what=f'{KEPT:g} s at the station')
         if event == 'reboot':
             _reboot(sitl)
         else:
@@ -84,6 +126,7 @@ def test_the_mission_ends_with_its_reason_when_arducopter_is_lost_mid_hover(tmp_
                 sitl.start(wipe=False)
         stdout, stderr = run.communicate(timeout=600)
     finally:
+        watch.close()
         if run.poll() is None:
             run.kill()
             run.communicate()

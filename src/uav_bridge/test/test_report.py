@@ -50,7 +50,9 @@ def test_outages_after_the_link_first_came_up_and_the_window_they_leave():
                        Outage(9.0, np.inf, 'link lost')]
     assert [o.text() for o in outages] == ['/uav/pose gap 3.5-6.0 s (2.5 s)', 'link lost 4.0-6.0 s (2.0 s)',
                                            'autopilot reboot seen at 6.0 s', 'link lost from 9.0 s to the end']
-    assert clip_to_outages((2.0, np.inf), outages) == (2.0, 3.5)
+    assert clip_to_outages((1.0, np.inf), outages) == (1.0, 3.5)
+    assert clip_to_outages((2.0, np.inf), outages) is None              # 1.5 s left: too short for two poses
     assert clip_to_outages((6.5, 8.0), outages) == (6.5, 8.0)
     assert clip_to_outages((4.0, 8.0), outages) is None                # opens inside an outage
+    assert clip_to_outages((2.0, 8.0), outages[1:]) == (2.0, 4.0)
     assert clip_to_outages(None, outages) is None

@@ -79,14 +79,16 @@ def link_outages(t: np.ndarray, up: np.ndarray, reboots: np.ndarray, pose_t: np.
 
 
 def clip_to_outages(interval: tuple[float, float] | None, outages: list[Outage]) -> tuple[float, float] | None:
-    """The station-keeping window ended at the first outage that reaches into it; None if none is left."""
+    """The station-keeping window ended at the first outage that reaches into it; None if less than
+    ``2 * POSE_GAP`` is left (which holds at least two poses, none further apart than :data:`POSE_GAP`).
+    """
     if interval is None:
         return None
     starts = [o.start for o in outages if o.end >= interval[0] and o.start < interval[1]]
     if not starts:
         return interval
     end = min(starts)
-    return (interval[0], end) if end > interval[0] else None
+    return (interval[0], end) if end - interval[0] >= 2 * POSE_GAP else None
 
 
 def outage_lines(outages: list[Outage], interval: tuple[float, float] | None) -> list[str]:
