@@ -3,7 +3,7 @@
 `tethersim run` of ``outdoor_flight_sitl`` with the station lowered to 10 m and SITL run by the
 test (so the test can kill, restart and reboot it while the run goes on), SITL at 10x and the
 graph at 5x (half, so the flight fits even when SITL falls behind its speed-up), in the test's
-ROS domain. Once the UAV has kept station for 8 s of sim time (``/uav/pose`` stamps since it
+ROS domain. Once the UAV has kept station for 15 s of sim time (``/uav/pose`` stamps since it
 first came within 0.5 m of the station: the report's window opens 5 s after that), the test
 takes the autopilot away:
 
@@ -53,7 +53,7 @@ MAV_CMD_PREFLIGHT_REBOOT_SHUTDOWN = 246
 FORCE = 20190226.0
 """param 6 of the reboot command: reboot even when armed."""
 STATION = (5.0, 0.0, 10.0)
-KEPT = 8.0
+KEPT = 15.0
 """s of sim time at the station before the autopilot is taken away."""
 
 

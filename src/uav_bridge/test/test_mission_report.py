@@ -90,4 +90,4 @@ def test_a_lost_autopilot_is_listed_and_ends_the_hold_statistics_without_interpo
 
 def test_a_run_without_outages_says_so():
     r = analyse(_landing_run())
-    assert 'autopilot: no link loss, no reboot, no /uav/pose gap over 1 s' in '\n'.join(summary_lines(r))
+    assert 'autopilot: no link loss, no reboot, no /uav/pose gap over 3 s' in '\n'.join(summary_lines(r))

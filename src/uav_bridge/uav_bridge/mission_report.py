@@ -222,7 +222,7 @@ def analyse(run: Run) -> dict:
     interval = hold_interval(run.phases, run.poses) if run.poses.shape[0] else None
     result['outages'] = link_outages(run.uav_state['t'], run.uav_state['up'] > 0.5, run.uav_state['reboots'],
                                      run.poses[:, 0])
-    interval = clip_to_outages(interval, result['outages'])
+    interval = clip_to_outages(interval, result['outages'], run.poses[:, 0])
     result['interval'] = interval
     result['phases'] = list(dict.fromkeys(phase for _, phase, _, _ in run.phases))
     result['end'] = run.phases[-1][2] if run.phases else ''
