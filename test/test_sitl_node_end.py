@@ -1,5 +1,6 @@
 """The sitl node when its SITL dies: the cause in one line, exit status 1, no traceback, no temp directory left;
-the bringup naming that cause first, also when the node finds it only at the run's end (issue 38, deliverable 5).
+the bringup naming that cause first, also when the node finds it only at the run's end; a --rate above SITL's
+fixed speed-up refused in one line (issue 38, deliverable 5).
 
 SITL here is a test double (a shell script that prints its arguments and sleeps): what is tested is the node's
 and the bringup's handling of a child program that ends, whatever the program.
@@ -19,6 +20,7 @@ import pytest
 
 from tether_bringup.bringup import _failed_when_stopped
 from tether_bringup.processes import ChildProcess
+from tethersim_testing import tethersim
 from test_uav_bridge_peer import wait_until
 
 CAUSE = re.compile(r'SITL exited with status -9 \(killed by SIGKILL\) at sim time [\d.]+ s: the autopilot is gone')
@@ -92,3 +94,20 @@ def test_a_node_exiting_with_an_error_when_stopped_fails_the_run_with_its_cause_
     assert failure is not None
     assert failure.splitlines()[0] == (f'node sitl ended with exit status 1: {cause} (found at the end of the run); '
                                        f'last lines of {tmp_path / "sitl.log"}:')
+
+
+@pytest.mark.parametrize('rate', ['max', '8'])
+def test_a_pace_sitl_cannot_follow_is_refused_in_one_line(rate, tmp_path):
+    result = tethersim('run', 'outdoor_flight_sitl', '--rate', rate, '--out', str(tmp_path / 'run'))
+    assert result.returncode == 2 and 'Traceback' not in result.stderr
+    assert result.stderr.strip().splitlines() == [
+        f'tethersim: error: node sitl: --rate {rate}: SITL runs at a fixed 4x wall time (its speedup), outside the '
+        'lockstep, and the graph would outrun the autopilot; run at --rate 4 or less, or raise the speedup']
+    assert not (tmp_path / 'run').exists()
+
+
+def test_the_pace_of_sitl_on_the_json_physics_is_the_graphs():
+    from uav_bridge.sitl_params import pace_problem
+    assert pace_problem({'speedup': 4.0}, 4.0) is None
+    assert pace_problem({'speedup': 4.0}, 4.5) is not None
+    assert pace_problem({'speedup': 100.0, 'model': 'JSON:127.0.0.1'}, float('inf')) is None
