@@ -221,7 +221,8 @@ def analyse(run: Run) -> dict:
     result: dict = {'run': run}
     interval = hold_interval(run.phases, run.poses) if run.poses.shape[0] else None
     result['outages'] = link_outages(run.uav_state['t'], run.uav_state['up'] > 0.5, run.uav_state['reboots'],
-                                     run.poses[:, 0])
+                                     run.poses[:, 0], end=max(run.heave[:, 0].max(initial=-math.inf),
+                                                              run.uav_state['t'].max(initial=-math.inf)))
     interval = clip_to_outages(interval, result['outages'], run.poses[:, 0])
     result['interval'] = interval
     result['phases'] = list(dict.fromkeys(phase for _, phase, _, _ in run.phases))

@@ -62,9 +62,10 @@ class Outage:
 
 
 def link_outages(t: np.ndarray, up: np.ndarray, reboots: np.ndarray, pose_t: np.ndarray,
-                 gap: float = POSE_GAP) -> list[Outage]:
+                 gap: float = POSE_GAP, end: float = -np.inf) -> list[Outage]:
     """The run's outages, by start time: from ``/uav/state`` (stamps ``t``, link ``up`` = connected and not
-    stale, the bridge's ``reboots`` count) after the link was first up, and from the ``/uav/pose`` stamps.
+    stale, the bridge's ``reboots`` count) after the link was first up, and from the ``/uav/pose`` stamps (a gap
+    also from the last pose to ``end``, the recording's end, when that is longer than ``gap``).
     """
     outages = []
     up = np.asarray(up, dtype=bool)
@@ -77,6 +78,8 @@ def link_outages(t: np.ndarray, up: np.ndarray, reboots: np.ndarray, pose_t: np.
         outages.append(Outage(float(t[i + 1]), float(t[i + 1]), 'reboot'))
     for i in np.flatnonzero(np.diff(pose_t) > gap):
         outages.append(Outage(float(pose_t[i]), float(pose_t[i + 1]), 'pose gap'))
+    if len(pose_t) and end - pose_t[-1] > gap:
+        outages.append(Outage(float(pose_t[-1]), np.inf, 'pose gap'))
     return sorted(outages, key=lambda o: (o.start, o.kind))
 
 
@@ -174,7 +177,7 @@ def flight_report(bag_path: str, out_dir: str) -> list[str]:
              + (' → '.join(dict.fromkeys(phase for _, phase, _, _ in phases)) if phases else 'no /mission/state')]
     states = flight['states']
     outages = link_outages(np.array([s[0] for s in states]), np.array([s[4] and not s[1] for s in states]),
-                           np.array([s[3] for s in states]), poses[:, 0])
+                           np.array([s[3] for s in states]), poses[:, 0], end=states[-1][0] if states else -np.inf)
     interval = clip_to_outages(hold_interval(phases, poses), outages, poses[:, 0])
     station = phases[-1][3] if phases else None
     if interval is not None:
