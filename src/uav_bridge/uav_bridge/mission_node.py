@@ -22,6 +22,12 @@ at a time (mode, arm, takeoff, land; the answer fed to the next step) over one o
   (geometry_msgs/PoseStamped, ``world``, zero quaternion: heading kept); ``/uav/state``,
   ``/uav/pose``, ``/reel/state`` and ``/reel/diagnostics`` are used as they arrive. The
   autopilot runs on its own clock outside the lockstep, so such a run is not reproducible.
+  Each call has a time-out (``service_timeout``, ``arm_service_timeout``) longer than the
+  bridge's own: a call unanswered past it ends the mission (:class:`ServiceLink`).
+
+Losing the autopilot in flight (the link down for ``link_grace`` s, a reboot, a disarm) ends
+the mission in phase ``lost`` with the reason in ``/mission/state``
+(:class:`uav_bridge.mission.AutopilotWatch`; docs/autopilot-link.md).
 
 At the end, with a ``return_speed``, the mission returns over the pad (``pad``, down to
 ``return_height``), the setpoint on the link as while holding, then lands. A reel trip before the return lands the
