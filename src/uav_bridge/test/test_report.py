@@ -51,7 +51,9 @@ def test_outages_after_the_link_first_came_up_and_the_window_they_leave():
     assert [o.text() for o in outages] == ['/uav/pose gap 3.5-6.0 s (2.5 s)', 'link lost 4.0-6.0 s (2.0 s)',
                                            'autopilot reboot seen at 6.0 s', 'link lost from 9.0 s to the end']
     assert link_outages(t, up, reboots, poses)[0] == Outage(4.0, 6.0, 'link lost')     # 2.5 s: under POSE_GAP
-    assert Outage(7.0, np.inf, 'pose gap') in link_outages(t, up, reboots, poses, gap=1.0, end=9.0)
+    at_end = link_outages(t, up, reboots, poses, gap=1.0, end=9.0)
+    assert Outage(7.0, np.inf, 'pose gap') in at_end
+    assert Outage(9.0, np.inf, 'link lost') not in at_end            # the run's nodes stopping at its end
     assert Outage(7.0, np.inf, 'pose gap').text() == '/uav/pose gap from 7.0 s to the end'
     assert clip_to_outages((2.0, np.inf), outages, poses) == (2.0, 3.5)
     assert clip_to_outages((6.5, 8.0), outages, poses) == (6.5, 8.0)

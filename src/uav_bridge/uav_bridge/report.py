@@ -65,7 +65,9 @@ def link_outages(t: np.ndarray, up: np.ndarray, reboots: np.ndarray, pose_t: np.
                  gap: float = POSE_GAP, end: float = -np.inf) -> list[Outage]:
     """The run's outages, by start time: from ``/uav/state`` (stamps ``t``, link ``up`` = connected and not
     stale, the bridge's ``reboots`` count) after the link was first up, and from the ``/uav/pose`` stamps (a gap
-    also from the last pose to ``end``, the recording's end, when that is longer than ``gap``).
+    also from the last pose to ``end``, the recording's end, when that is longer than ``gap``). None starting at
+    ``end``: the run's nodes stop there, SITL (its node) before the bridge when the scene lists it first, and the
+    bridge's last ``/uav/state``, stamped with the last ``/clock``, then shows a closed link.
     """
     outages = []
     up = np.asarray(up, dtype=bool)
@@ -80,7 +82,7 @@ def link_outages(t: np.ndarray, up: np.ndarray, reboots: np.ndarray, pose_t: np.
         outages.append(Outage(float(pose_t[i]), float(pose_t[i + 1]), 'pose gap'))
     if len(pose_t) and end - pose_t[-1] > gap:
         outages.append(Outage(float(pose_t[-1]), np.inf, 'pose gap'))
-    return sorted(outages, key=lambda o: (o.start, o.kind))
+    return sorted((o for o in outages if o.start < end or not np.isfinite(end)), key=lambda o: (o.start, o.kind))
 
 
 def clip_to_outages(interval: tuple[float, float] | None, outages: list[Outage],
