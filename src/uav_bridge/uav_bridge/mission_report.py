@@ -450,7 +450,10 @@ def plot(r: dict, out: Path) -> list[str]:
         ax.set_ylabel('m')
         ax.legend(fontsize=8)
         until = f'before the landing at {r["landing"] - t0:.1f} s' if math.isfinite(r['landing']) else 'in the run'
-        ax.set_title(f'lowest tether point: {r["fouling_events"]} fouling events (on the deck or in the sea) {until}')
+        landing = r['landing_figures']
+        after = f'; {landing["fouled_time"]:.1f} s fouled in the landing' if landing is not None else ''
+        ax.set_title(f'lowest tether point: {r["fouling_events"]} fouling events (on the deck or in the sea) {until}'
+                     f'{after}')
         fig.tight_layout()
         names.append(f'{run.name}_clearance.png')
         fig.savefig(out / names[-1], dpi=100)
