@@ -183,6 +183,10 @@ def test_link_loss_marks_stale_reconnects_and_requests_streams_again(link):
     wait_until(lambda: peer.requests_since(drop) == set(STREAM_IDS.values()), what='streams requested again')
     assert collector.of(telemetry.Kinematics, since=drop + 2.0)
     assert any(level == 'warn' and 'link lost' in text for level, text in collector.logs)
+    assert not any('link stale' in text for _, text in collector.logs)     # 'link lost' said it
+    # a closed link, or a new one before its first HEARTBEAT, shows neither the armed flag nor the mode of the old
+    assert collector.any_status(lambda s: not s.connected)
+    assert not collector.any_status(lambda s: not s.connected and (s.mode or s.armed))
 
 
 def test_heartbeat_gap_on_an_open_link_requests_streams_again(link):
@@ -192,6 +196,7 @@ def test_heartbeat_gap_on_an_open_link_requests_streams_again(link):
     peer.silence(1.5)
     wait_until(lambda: collector.last_status().stale, what='the stale flag')
     wait_until(lambda: not collector.last_status().stale, what='heartbeats again')
+    assert any(level == 'warn' and 'link stale' in text for level, text in collector.logs)   # open, but silent
     wait_until(lambda: peer.requests_since(gap) == set(STREAM_IDS.values()), what='streams requested again')
     assert collector.last_status().reconnects == 1
 

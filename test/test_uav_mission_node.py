@@ -7,6 +7,7 @@ import signal
 import subprocess
 import sys
 import time
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -107,3 +108,33 @@ def test_mission_holds_station_and_lands_on_a_reel_trip(ros_domain):  # noqa: F8
         stopped = stop_nodes(processes)
         peer.close()
     assert_clean_exits(stopped)
+
+
+def test_a_service_server_killed_mid_call_times_the_mission_out_and_it_ends_cleanly(ros_domain, tmp_path):  # noqa: F811
+    called = tmp_path / 'called'
+    double = subprocess.Popen(
+        [sys.executable, str(Path(__file__).parent / 'nodes' / 'uav_services_double.py'), '--ros-args', '-p',
+         f'called_file:={called}'], env=dict(os.environ, ROS_DOMAIN_ID=str(ros_domain)), stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE, text=True)
+    mission = _start('uav_bridge.mission_node', 'uav_link:=services', 'service_timeout:=2.0', 'retry_period:=0.5',
+                     domain=ros_domain)
+    probe = Probe()
+    publish_clock(probe)
+    phases = []
+    probe.node.create_subscription(MissionState, '/mission/state', phases.append, LATCHED)
+    try:
+        wait_until(called.exists, timeout=90, what='the mission\'s set_mode call at the server')
+        double.kill()                            # the server dies with the call out: no answer will ever come
+        double.communicate(timeout=20)
+        assert phases[-1].phase == 'guided'
+        wait_until(lambda: phases and phases[-1].phase == 'lost', timeout=60, what='the time-out')
+    finally:
+        probe.close()
+        if double.poll() is None:
+            double.kill()
+            double.communicate(timeout=20)
+        stopped = stop_nodes([mission])
+    assert phases[-1].aborted
+    assert phases[-1].reason.startswith('aborted: autopilot lost: no answer from /uav/set_mode within 2 s (')
+    assert_clean_exits(stopped)
+    assert 'set_mode: no answer from /uav/set_mode within 2 s' in stopped[0][1]     # the one-line log

@@ -210,6 +210,9 @@ def execute(nodes: list[NodeConfig], source, options: RunOptions) -> int:
         node.destroy_node()
         rclpy.try_shutdown()
 
+    late = None if failure else _failed_when_stopped(children)
+    if late:
+        status, failure = 1, late
     wall = time.monotonic() - wall_start
     lines = _summary(options, source, children, wall, failure, cpu, read_cpu(out / 'logs' / f'{GROUP_NAME}.cpu.yaml'))
     lines += live_lines(out / LIVE_STATS) if options.live is not None else []
@@ -337,9 +340,17 @@ def _check_children(children: list[ChildProcess]) -> None:
     for child in children:
         code = child.poll()
         if code is not None and not child.stop_requested:
-            which = f'node {child.name}' if child.members == (child.name,) else \
-                f'node group {child.name} ({", ".join(child.members)})'
-            raise RunError(f'{which} died with exit status {code}; {_log_tail(child, 10)}')
+            raise RunError(_death(child, 'died'))
+
+
+def _death(child: ChildProcess, how: str) -> str:
+    """A child's end in words: its exit status and its cause first (its last error line), then its last lines."""
+    which = f'node {child.name}' if child.members == (child.name,) else \
+        f'node group {child.name} ({", ".join(child.members)})'
+    cause = next((line for line in reversed(child.tail(10)) if '[ERROR]' in line or ': error: ' in line), '')
+    cause = cause.rpartition(']: ')[2] if '[ERROR]' in cause else cause
+    return (f'{which} {how} with exit status {child.returncode}' + (f': {cause}' if cause else '')
+            + f'; {_log_tail(child, 10)}')
 
 
 def _log_tail(child: ChildProcess, count: int) -> str:
@@ -348,6 +359,16 @@ def _log_tail(child: ChildProcess, count: int) -> str:
     if not any(line.strip() for line in tail):
         return f'its log {child.log_path} is empty (it wrote nothing before it ended)'
     return f'last lines of {child.log_path}:\n' + '\n'.join(f'    {line}' for line in tail)
+
+
+def _failed_when_stopped(children: list[ChildProcess]) -> str | None:
+    """A node that, asked to stop at the end, exited with a status of its own other than 0 (the sitl node
+    finding its autopilot dead): the run failed, with the node's cause.
+    """
+    for child in children:
+        if child.stop_requested and child.returncode is not None and child.returncode > 0:
+            return _death(child, 'ended')
+    return None
 
 
 def _wait_for(condition, timeout: float, children, executor, message) -> None:

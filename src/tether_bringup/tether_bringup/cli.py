@@ -11,6 +11,7 @@ from __future__ import annotations
 import argparse
 import errno
 import socket
+import importlib
 import sys
 import time
 from pathlib import Path
@@ -151,6 +152,7 @@ def _run(args: argparse.Namespace) -> int:
     scene = load_scene(find_scene(args.scene))
     duration = args.duration or scene.duration
     rate = args.rate or scene.rate
+    _check_pace(scene.nodes, rate)
     source = PacedClock(duration, scene.clock_step, rate)
     with reserved_domain(args.domain_id) as domain_id:
         options = RunOptions(out_dir=args.out or _default_out(scene.name), domain_id=domain_id,
@@ -158,6 +160,23 @@ def _run(args: argparse.Namespace) -> int:
                              title=f'tethersim run {scene.name}', lockstep_window=scene.lockstep_window,
                              compose=scene.compose, live=_live(args), live_wait=args.live_wait)
         return execute(scene.nodes, source, options)
+
+
+def _check_pace(nodes, rate: float) -> None:
+    """Refuse a real-time factor a node on its own clock cannot follow: its parameters module's
+    ``pace_problem(parameters, rate)`` (the sitl node's SITL at a fixed speed-up) says why.
+    """
+    from tether_bringup.errors import SceneError
+    for config in nodes:
+        if not config.package:
+            continue
+        try:
+            module = importlib.import_module(f'{config.package}.{config.executable}_params')
+        except ModuleNotFoundError:
+            continue
+        problem = getattr(module, 'pace_problem', lambda parameters, rate: None)(config.parameters, rate)
+        if problem:
+            raise SceneError(f'node {config.name}: {problem}')
 
 
 def _replay(args: argparse.Namespace) -> int:

@@ -222,3 +222,79 @@ def test_return_speed_zero_lands_where_the_uav_is():
     logic.phase = 'hold'
     out = logic.step(10.0, Inputs(**FLYING, position=np.array([15.0, 0.0, 30.0])))
     assert out.phase == 'land' and out.request == ('land', None) and out.setpoint is None
+
+
+def _flying(logic: MissionLogic, t: float = 10.0, reboots: int = 0) -> None:
+    """Step a mission of a 5 m station up to its hold at ``t``."""
+    up = Inputs(connected=True, position_ready=True, position=GROUND, mode='GUIDED', armed=True, reboots=reboots)
+    logic.step(t - 3.0, Inputs(connected=True, position_ready=True, position=GROUND, mode='GUIDED', reboots=reboots))
+    logic.step(t - 2.0, up)
+    logic.step(t - 1.0, Inputs(**{**up.__dict__, 'answer': ('takeoff', True, 'takeoff accepted')}))
+    assert logic.step(t, Inputs(**{**up.__dict__, 'position': np.array([2.5, 0.0, 5.0])})).phase == 'hold'
+
+
+HOLDING = dict(connected=True, position_ready=True, position=np.array([2.5, 0.0, 5.0]), mode='GUIDED', armed=True)
+
+
+def test_a_link_down_longer_than_the_grace_ends_the_mission_without_a_request_or_setpoint():
+    logic = MissionLogic(MissionConfig(altitude=5.0, radial=2.5, land_time=100.0, link_grace=4.0))
+    _flying(logic)
+    down = Inputs(connected=False, position=np.array([2.5, 0.0, 5.0]), waiting_for='connection to tcp:x:5760')
+    out = logic.step(11.0, down)
+    assert (out.phase, out.request, out.setpoint) == ('hold', None, None)
+    assert out.reason == 'link to the autopilot down since 11.00 s'
+    out = logic.step(14.9, down)
+    assert out.phase == 'hold' and not logic.aborted
+    out = logic.step(15.0, down)
+    assert out.phase == 'lost' and logic.aborted and out.request is None and out.setpoint is None
+    assert out.reason == ('aborted: autopilot lost: link to the autopilot down for 4.0 s since 11.00 s '
+                          '(waiting for connection to tcp:x:5760)')
+    # nothing brings it back: not the link, not the end time, not a reel trip
+    out = logic.step(120.0, Inputs(**HOLDING, reel_fault='tension'))
+    assert (out.phase, out.request, out.setpoint) == ('lost', None, None)
+
+
+def test_a_link_back_within_the_grace_with_the_uav_flying_in_guided_resumes_the_hold():
+    logic = MissionLogic(MissionConfig(altitude=5.0, radial=2.5, link_grace=4.0))
+    _flying(logic)
+    logic.step(11.0, Inputs(connected=False))
+    out = logic.step(13.0, Inputs(**HOLDING))
+    assert out.phase == 'hold' and out.setpoint is not None and not logic.aborted
+
+
+def test_a_reboot_in_flight_ends_the_mission_at_once_a_reboot_on_the_ground_does_not():
+    logic = MissionLogic(MissionConfig(altitude=5.0, radial=2.5))
+    logic.step(0.0, Inputs(connected=True, position_ready=True, position=GROUND, mode='STABILIZE', reboots=1))
+    _flying(logic, reboots=1)                  # rebooted before the take-off: counts from there
+    out = logic.step(11.0, Inputs(**{**HOLDING, 'armed': False, 'mode': 'STABILIZE'}, reboots=2))
+    assert out.phase == 'lost' and logic.aborted
+    assert out.reason == 'aborted: autopilot lost: the autopilot rebooted in flight (reboot 2 of the link, seen at 11.00 s)'
+
+
+@pytest.mark.parametrize('change, reason', [
+    ({'armed': False, 'mode': 'STABILIZE'}, 'the autopilot disarmed in flight (mode STABILIZE) at 13.00 s'),
+    ({'mode': 'LAND'}, 'the autopilot came back from a link gap in LAND, not GUIDED, at 13.00 s')])
+def test_an_autopilot_back_from_a_gap_disarmed_or_out_of_guided_ends_the_mission(change, reason):
+    logic = MissionLogic(MissionConfig(altitude=5.0, radial=2.5, link_grace=4.0))
+    _flying(logic)
+    logic.step(11.0, Inputs(connected=False))
+    out = logic.step(13.0, Inputs(**{**HOLDING, **change}))
+    assert out.phase == 'lost' and out.reason == f'aborted: autopilot lost: {reason}'
+
+
+def test_a_landing_whose_link_closes_is_not_taken_for_landed():
+    logic = MissionLogic(MissionConfig(altitude=5.0, radial=2.5, land_time=20.0, link_grace=4.0))
+    _flying(logic)
+    assert logic.step(20.0, Inputs(**HOLDING)).phase == 'land'
+    out = logic.step(21.0, Inputs(connected=False, armed=False))    # a closed link clears armed
+    assert out.phase == 'land' and out.request is None
+    assert logic.step(25.0, Inputs(connected=False)).phase == 'lost'
+
+
+def test_an_unanswered_request_ends_the_mission_in_any_phase():
+    logic = MissionLogic(MissionConfig())
+    logic.step(0.0, Inputs(connected=True, position_ready=True, position=GROUND, mode='STABILIZE'))
+    failure = 'no answer from /uav/set_mode within 15 s'
+    out = logic.step(20.0, Inputs(connected=True, position_ready=True, position=GROUND, mode='STABILIZE', busy=True,
+                                  link_failure=failure))
+    assert (out.phase, out.request) == ('lost', None) and out.reason == f'aborted: autopilot lost: {failure}'

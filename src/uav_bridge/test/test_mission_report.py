@@ -63,3 +63,31 @@ def test_without_a_landing_the_whole_run_counts():
     assert r['landing'] == np.inf and r['window'] == pytest.approx((7.0, 79.99))
     assert r['fouling_events'] == 1 and r['fouled_time'] == pytest.approx(10.0) and r['trips'] == 3
     assert 'fouling: 1 events' in '\n'.join(summary_lines(r))
+
+
+def test_a_lost_autopilot_is_listed_and_ends_the_hold_statistics_without_interpolating_across_its_gap():
+    """The issue's run: the mission stayed in hold while the autopilot was killed, restarted and rebooted; poses
+    stop for 20 s and resume with the UAV on the ground.
+    """
+    run = _landing_run()
+    run.phases = [phase for phase in run.phases if phase[1] not in ('return', 'land')]
+    t = run.poses[:, 0]
+    keep = (t < 30.0) | (t >= 50.0)
+    run.poses = run.poses[keep]
+    run.poses[run.poses[:, 0] >= 50.0, 3] = 0.0
+    ts = np.arange(0.0, 80.0, 0.25)
+    run.uav_state = {'t': ts, 'up': ((ts < 30.0) | (ts >= 50.0)).astype(float), 'reboots': (ts >= 50.0).astype(float)}
+    r = analyse(run)
+    assert r['window'] == pytest.approx((7.0, 29.99))                        # the last pose before the gap
+    assert r['keeping']['peak_to_peak'] == pytest.approx(0.1, abs=1e-3)       # the 30 m drop is not in it
+    lags = r['xcorr'][0]
+    assert lags.max() == pytest.approx(29.98 - 7.0, abs=1e-9)                 # heave samples of the window only
+    lines = '\n'.join(summary_lines(r))
+    assert ('autopilot: /uav/pose gap 30.0-50.0 s (20.0 s); link lost 30.0-50.0 s (20.0 s); autopilot reboot seen at '
+            '50.0 s; the station-keeping figures stop at 30.0 s, before the first in the hold') in lines
+    assert 'held 7.0-30.0 s' in lines
+
+
+def test_a_run_without_outages_says_so():
+    r = analyse(_landing_run())
+    assert 'autopilot: no link loss, no reboot, no /uav/pose gap over 3 s' in '\n'.join(summary_lines(r))

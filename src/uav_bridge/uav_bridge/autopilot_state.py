@@ -81,15 +81,26 @@ class AutopilotState:
     # link events
 
     def connection_made(self) -> None:
-        """A transport to the autopilot was opened."""
+        """A transport to the autopilot was opened: stale, and neither armed nor in a mode, until its first HEARTBEAT
+        (the autopilot behind a new connection may have restarted).
+        """
         self.connected = True
         self.reconnects += 1
         self._heard_on_connection = False
+        self.last_heartbeat = None
+        self._forget_flight()
 
     def connection_lost(self) -> None:
-        """The transport closed: everything is stale until the autopilot is heard again."""
+        """The transport closed: everything is stale, neither armed nor in a mode, until the autopilot is heard again."""
         self.connected = False
         self.last_local_position = None
+        self._forget_flight()
+
+    def _forget_flight(self) -> None:
+        """Armed and mode are no longer known (a closed link, a new one, a reboot): cleared until the next HEARTBEAT."""
+        self.armed = False
+        self.mode = ''
+        self.custom_mode = None
 
     def on_bad_data(self, count: int = 1) -> None:
         """Count bytes or packets that were not valid MAVLink."""
@@ -129,6 +140,7 @@ class AutopilotState:
                 self.ekf_flags = 0
                 self.last_local_position = None
                 self.last_seen = {kind: now}
+                self._forget_flight()
                 events.append('reboot')
             self.boot_time = seconds
         return events

@@ -167,8 +167,12 @@ class MavlinkBridge(Node):
         self.get_logger().info(f'MAVLink bridge on {config.url}; autopilot origin at {list(config.origin)} m in world')
 
     def destroy_node(self) -> None:
-        """Stop the link thread before the node goes."""
+        """Stop the link thread before the node goes; a request still waiting for its tick is refused."""
         self.session.stop()
+        with self._due_lock:
+            due, self._due = self._due, []
+        for _, _, _, outer in due:
+            outer.set_result(CommandResult(False, 'the bridge stopped'))
         super().destroy_node()
 
     def _graph_seconds(self) -> float:
@@ -349,7 +353,15 @@ class MavlinkBridge(Node):
         return self._answer(self._command(self.session.land), response)
 
     def _answer(self, future, response):
-        result = future.result(timeout=self.command_timeout)
+        """Wait for the session's answer: the session ends every command by its own time-out, so this wait's
+        (their longest plus 5 s, wall clock; stepped, the node's end resolves what the ticks did not) is a
+        safety net, answered as a refusal with its reason in one line when it fires.
+        """
+        try:
+            result = future.result(timeout=self.command_timeout)
+        except TimeoutError:
+            result = CommandResult(False, f'no answer from the link thread within {self.command_timeout:g} s')
+            self.get_logger().error(result.message)
         response.success, response.message = result.success, result.message
         return response
 

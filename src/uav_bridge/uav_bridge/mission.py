@@ -31,6 +31,19 @@ not change them. :class:`TripMonitor` decides when a reel trip counts: once the 
 stayed tripped for ``abort_after`` seconds (0: at once); the reel's own trips clear when
 their condition does, so a trip shorter than that is the reel refusing one direction for a
 while, and the mission flies on.
+
+Losing the autopilot ends the mission in phase ``lost`` (:class:`AutopilotWatch`), with the
+reason kept, and nothing is asked of the autopilot after it: from a flying phase (take-off to
+landing) when the link stays down (closed or stale) for ``link_grace`` s, when the autopilot
+rebooted (the bridge's reboot count grew), when it is disarmed while climbing, holding or
+returning, or when it comes back from a gap in another mode than GUIDED; from any phase when a
+request got no answer at all (the bridge answers every request within its own time-outs, so a
+missing answer means the bridge is gone: nothing can be commanded). The mission does not take
+off again: an autopilot that went silent or rebooted in flight left the UAV uncontrolled, so it
+has fallen or landed wherever it was, its tether on the deck or in the sea, and after a reboot
+ArduPilot needs its estimator again (~40 s) and may run other parameters. Flying it again is a
+decision for the crew after looking at the UAV and the tether, not for the mission; the run
+records why it ended (docs/autopilot-link.md).
 """
 
 from __future__ import annotations
@@ -40,9 +53,13 @@ from dataclasses import dataclass
 
 import numpy as np
 
-PHASES = ('wait', 'guided', 'arm', 'takeoff', 'climb', 'hold', 'return', 'land', 'landed')
+PHASES = ('wait', 'guided', 'arm', 'takeoff', 'climb', 'hold', 'return', 'land', 'landed', 'lost')
 FLYING = ('takeoff', 'climb', 'hold')
 """Phases from which the end of the mission returns over the pad before landing."""
+AIRBORNE = ('takeoff', 'climb', 'hold', 'return', 'land')
+"""Phases in which the autopilot flies the UAV: losing it there ends the mission (:class:`AutopilotWatch`)."""
+ENDED = ('landed', 'lost')
+"""Phases after which the mission asks nothing more."""
 
 
 @dataclass(frozen=True)
@@ -59,6 +76,7 @@ class MissionConfig:
     return_speed: float = 0.0       # m/s, speed of the setpoint returning over the pad; 0: no return
     return_height: float | None = None   # m, height in world over the pad where the return ends; None: hold altitude
     return_tolerance: float = 0.5   # m, horizontal distance from over the pad at which the landing starts
+    link_grace: float = 10.0        # s, a flying mission waits this long for a lost autopilot link before it ends
 
     def station(self) -> np.ndarray:
         """The station in world (ENU, m)."""
@@ -77,6 +95,9 @@ class Inputs:
     reel_fault: str = ''            # reason of a reel trip (tension, fouling), '' when none
     busy: bool = False              # a request is still waiting for its answer
     answer: tuple[str, bool, str] | None = None   # (request kind, success, message) of the last answer
+    reboots: int = 0                # autopilot reboots the bridge has seen since it started
+    waiting_for: str = ''           # what the link waits for (the bridge's words), '' when nothing
+    link_failure: str = ''          # why a request will never be answered, '' while the link answers
 
 
 @dataclass(frozen=True)
@@ -118,6 +139,48 @@ class TripMonitor:
         return self.fault
 
 
+class AutopilotWatch:
+    """Decides when the autopilot is lost (see the module docstring); stepped with the mission's phase.
+
+    The reboot count is taken as it is when the UAV leaves the ground phases, so a reboot
+    before the take-off (SITL restarted while waiting) does not count; a link gap (closed or
+    stale) counts once it has lasted ``grace`` s of the mission's time.
+    """
+
+    def __init__(self, grace: float = 10.0) -> None:
+        self.grace = grace
+        self.reboots: int | None = None
+        self.since: float | None = None
+        self.gap = False
+
+    def update(self, t: float, phase: str, inputs: Inputs) -> str:
+        """The reason the autopilot counts as lost at ``t`` (s) in ``phase``, '' while it does not."""
+        if inputs.link_failure:
+            return inputs.link_failure
+        if phase not in AIRBORNE:
+            self.reboots, self.since, self.gap = inputs.reboots, None, False
+            return ''
+        if self.reboots is None:
+            self.reboots = inputs.reboots
+        if inputs.reboots > self.reboots:
+            return f'the autopilot rebooted in flight (reboot {inputs.reboots} of the link, seen at {t:.2f} s)'
+        if not inputs.connected:
+            if self.since is None:
+                self.since = t
+            if t - self.since >= self.grace:
+                waiting = f' (waiting for {inputs.waiting_for})' if inputs.waiting_for else ''
+                return f'link to the autopilot down for {t - self.since:.1f} s since {self.since:.2f} s{waiting}'
+            return ''
+        if self.since is not None:
+            self.since, self.gap = None, True
+        if phase in ('climb', 'hold', 'return'):
+            if not inputs.armed:
+                return f'the autopilot disarmed in flight (mode {inputs.mode or "unknown"}) at {t:.2f} s'
+            if self.gap and inputs.mode != 'GUIDED':
+                return f'the autopilot came back from a link gap in {inputs.mode or "no mode"}, not GUIDED, at {t:.2f} s'
+        return ''
+
+
 class MissionLogic:
     """The phase machine of one mission (see the module docstring)."""
 
@@ -131,13 +194,19 @@ class MissionLogic:
         self.takeoff_altitude = 0.0
         self._next_request = -math.inf
         self._return_start: tuple[float, np.ndarray] | None = None    # (start time s, start setpoint m)
+        self.watch = AutopilotWatch(config.link_grace)
 
     def step(self, t: float, inputs: Inputs) -> Outputs:
         """Advance to time ``t`` (s) with ``inputs``; return the request and setpoint to send."""
         if inputs.answer is not None and not inputs.answer[1]:
             self.reason = f'{inputs.answer[0]} refused: {inputs.answer[2]}'
             self._next_request = t + self.config.retry_period
-        if self.phase not in ('return', 'land', 'landed'):
+        lost = '' if self.phase in ENDED else self.watch.update(t, self.phase, inputs)
+        if lost:
+            self.outcome = f'aborted: autopilot lost: {lost}'
+            self.aborted = True
+            self._enter('lost')
+        if self.phase not in ('return', 'land', *ENDED):
             if inputs.reel_fault and not self.aborted:
                 self.outcome = f'aborted: reel trip: {inputs.reel_fault}'
                 self.aborted = True
@@ -149,6 +218,9 @@ class MissionLogic:
                 self.outcome = self.outcome or 'end of the mission'
                 if not (self.phase in FLYING and self._start_return(t, inputs)):
                     self._enter('land')
+        if self.phase in AIRBORNE and not inputs.connected and self.watch.since is not None:
+            # what the link says of the UAV is old or cleared: no request, no setpoint, the gap recorded
+            return Outputs(self.phase, None, None, self.outcome or f'link to the autopilot down since {self.watch.since:.2f} s')
         handler = getattr(self, f'_{self.phase}')
         request, setpoint = handler(t, inputs)
         if request is not None:
@@ -246,4 +318,7 @@ class MissionLogic:
         return ('land', None), None
 
     def _landed(self, t, inputs):
+        return None, None
+
+    def _lost(self, t, inputs):
         return None, None

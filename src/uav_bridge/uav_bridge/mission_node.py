@@ -22,6 +22,12 @@ at a time (mode, arm, takeoff, land; the answer fed to the next step) over one o
   (geometry_msgs/PoseStamped, ``world``, zero quaternion: heading kept); ``/uav/state``,
   ``/uav/pose``, ``/reel/state`` and ``/reel/diagnostics`` are used as they arrive. The
   autopilot runs on its own clock outside the lockstep, so such a run is not reproducible.
+  Each call has a time-out (``service_timeout``, ``arm_service_timeout``) longer than the
+  bridge's own: a call unanswered past it ends the mission (:class:`ServiceLink`).
+
+Losing the autopilot in flight (the link down for ``link_grace`` s, a reboot, a disarm) ends
+the mission in phase ``lost`` with the reason in ``/mission/state``
+(:class:`uav_bridge.mission.AutopilotWatch`; docs/autopilot-link.md).
 
 At the end, with a ``return_speed``, the mission returns over the pad (``pad``, down to
 ``return_height``), the setpoint on the link as while holding, then lands. A reel trip before the return lands the
@@ -37,6 +43,7 @@ from __future__ import annotations
 
 import math
 import sys
+import time
 
 import numpy as np
 from geometry_msgs.msg import PoseStamped
@@ -101,7 +108,8 @@ class MissionNode(Node):
             altitude=params['altitude'], radial=params['radial'], bearing=math.radians(params['bearing']),
             land_time=land_time(params, end), climb_tolerance=params['climb_tolerance'],
             retry_period=params['retry_period'], pad=tuple(params['pad']), return_speed=params['return_speed'],
-            return_height=params['return_height'] or None, return_tolerance=params['return_tolerance']))
+            return_height=params['return_height'] or None, return_tolerance=params['return_tolerance'],
+            link_grace=params['link_grace']))
         self.abort_tension = params['abort_tension']
         self.trips = TripMonitor(params['abort_after'])
         self.trip_reason = ''
@@ -109,7 +117,7 @@ class MissionNode(Node):
         self.state_pub = self.create_publisher(MissionState, '/mission/state', LATCHED)
         self._published = None
         self.lockstep = Lockstep(self)
-        self.link = CommandLink(self, params) if params['uav_link'] == 'command' else ServiceLink(self)
+        self.link = CommandLink(self, params) if params['uav_link'] == 'command' else ServiceLink(self, params)
         self.lockstep.every(1.0 / params['rate'], self.step, self.link.inputs)
         station = self.logic.station
         self.get_logger().info(f'mission: station {station[2]:g} m up, {math.hypot(*station[:2]):g} m radial '
@@ -140,7 +148,8 @@ class MissionNode(Node):
             connected=bool(state and state.connected and not state.stale),
             position_ready=bool(state and state.position_ready), armed=bool(state and state.armed),
             mode=state.mode if state else '', position=position, reel_fault=self.reel_fault,
-            busy=busy, answer=answer)
+            busy=busy, answer=answer, reboots=state.reboots if state else 0,
+            waiting_for=state.waiting_for if state else '', link_failure=self.link.failure)
         out = self.logic.step(tick.seconds, inputs)
         self.link.send(tick, out.request, out.setpoint)
         if (out.phase, out.reason) != self._published:
@@ -162,6 +171,9 @@ def _position(pose: PoseStamped | None) -> np.ndarray | None:
 
 class CommandLink:
     """The built-in UAV over ``/uav/command`` and ``/uav/state``, every input selected by stamp."""
+
+    failure = ''
+    """A request left unanswered stops the node (:meth:`observe`): a configuration error, not a lost link."""
 
     def __init__(self, node: MissionNode, params: dict) -> None:
         self.node = node
@@ -223,16 +235,30 @@ class CommandLink:
 
 
 class ServiceLink:
-    """An autopilot through the MAVLink bridge's services; its state and the reel's as they arrive."""
+    """An autopilot through the MAVLink bridge's services; its state and the reel's as they arrive.
+
+    Each call has a time-out (``service_timeout``, ``arm_service_timeout`` for arming): longer
+    than the bridge's own command and arm time-outs, within which the bridge answers every call
+    (or refuses it, with the autopilot's reasons), so a call unanswered past it means the bridge
+    is gone or hung (a lost answer: rclpy never ends a call whose server vanished). It counts
+    on both clocks, the wall clock of the bridge's time-outs and the sim time of the graph, so a
+    graph slower than real time with a bridge in the lockstep (its time-outs on sim time) still
+    gets its answer. The time-out is logged in one line and ends the mission (``failure``: phase
+    ``lost``, the reason in ``/mission/state``); a late answer is then ignored.
+    """
 
     inputs: tuple[Input, ...] = ()
 
-    def __init__(self, node: MissionNode) -> None:
+    def __init__(self, node: MissionNode, params: dict) -> None:
         self.node = node
         self.uav_state: UavState | None = None
         self.position: np.ndarray | None = None
         self.pending: str | None = None
         self.answer = None
+        self.failure = ''
+        self.timeouts = {kind: params['service_timeout'] for kind in ('set_mode', 'takeoff', 'land')}
+        self.timeouts['arm'] = params['arm_service_timeout']
+        self._called: tuple[float, float] = (0.0, 0.0)     # (wall clock s, sim time s) of the call out
         node.create_subscription(UavState, '/uav/state', self._on_state, LATCHED)
         node.create_subscription(PoseStamped, '/uav/pose', self._on_pose, SENSOR)
         node.create_subscription(ReelState, '/reel/state', node.reel_state, STATE)
@@ -256,12 +282,21 @@ class ServiceLink:
     def observe(self, tick: Tick):
         """The latest UAV state and position, whether a call is out, and the answer that came since the last step."""
         answer, self.answer = self.answer, None
-        return self.uav_state, self.position, self.pending is not None, answer
+        pending = self.pending
+        if pending is not None and not self.failure:
+            limit = self.timeouts[pending]
+            wall, sim = time.monotonic() - self._called[0], tick.seconds - self._called[1]
+            if wall >= limit and sim >= limit:
+                name = self.clients[pending][0].srv_name
+                self.failure = (f'no answer from {name} within {limit:g} s ({wall:.1f} s wall, {sim:.1f} s sim): the '
+                                'bridge answers every call within its own time-outs, so it is gone or hung')
+                self.node.get_logger().error(f'{pending}: {self.failure}')
+        return self.uav_state, self.position, pending is not None, answer
 
     def send(self, tick: Tick, request, setpoint) -> None:
         """Call the request's service; publish the setpoint."""
         if request is not None:
-            self._call(*request)
+            self._call(*request, tick.seconds)
         if setpoint is not None:
             msg = PoseStamped()
             msg.header.stamp, msg.header.frame_id = tick.stamp, 'world'
@@ -269,16 +304,19 @@ class ServiceLink:
             msg.pose.orientation.w = 0.0
             self.setpoint_pub.publish(msg)
 
-    def _call(self, kind: str, value) -> None:
+    def _call(self, kind: str, value, now: float) -> None:
         client, build = self.clients[kind]
         if not client.service_is_ready():
             self.answer = (kind, False, f'service of {kind} not available')
             return
         self.pending = kind
+        self._called = (time.monotonic(), now)
         future = client.call_async(build(value))
         future.add_done_callback(lambda done: self._answered(kind, done))
 
     def _answered(self, kind: str, future) -> None:
+        if self.failure:
+            return
         self.pending = None
         error = future.exception()
         self.answer = (kind, False, str(error)) if error else (kind, future.result().success, future.result().message)

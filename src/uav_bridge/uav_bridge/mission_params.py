@@ -45,6 +45,16 @@ PARAMETERS: tuple[ParamSpec, ...] = (
               'after it went out (sim time) stops the mission, as the UAV does not take /uav/command (the built-in '
               'UAV answers at its next state; an autopilot through mavlink_bridge needs its command and arm '
               'timeouts)', 's', low=0.1, high=3600.0, read_only=True),
+    ParamSpec('service_timeout', 15.0, 'uav_link services: a set_mode, takeoff or land call not answered this '
+              'long after it went out (wall clock and sim time both) ends the mission (phase lost) with the reason '
+              'recorded: longer than the bridge\'s command_timeout (5 s), within which it answers every call', 's',
+              low=0.1, high=3600.0, read_only=True),
+    ParamSpec('arm_service_timeout', 150.0, 'uav_link services: the same for an arm call: longer than the '
+              'bridge\'s arm_timeout (120 s), for which it retries a refused arming', 's', low=0.1, high=3600.0,
+              read_only=True),
+    ParamSpec('link_grace', 10.0, 'a flying mission whose autopilot link is down (closed or stale) this long ends '
+              '(phase lost, reason recorded); a reboot of the autopilot in flight ends it at once', 's', low=0.0,
+              high=600.0, read_only=True),
     ParamSpec('uav_state_rate', 10.0, 'uav_link command: rate of /uav/state (the built-in UAV\'s state_rate), a '
               'lockstep input without delay', 'Hz', low=0.5, high=1000.0, read_only=True),
     ParamSpec('uav_pose_rate', 100.0, 'uav_link command: rate of /uav/pose (the built-in UAV\'s rate), a lockstep '

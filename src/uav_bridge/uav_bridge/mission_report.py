@@ -13,7 +13,8 @@ Definitions. Every statistic is taken over the station-keeping window: from
 :data:`uav_bridge.report.ARRIVAL` of the station during the mission's ``hold`` phase to the
 phase's end (:func:`uav_bridge.report.hold_interval`), where the landing starts: the return
 over the pad at the end of the scene (``/mission/state`` phase ``return``), or the descent
-at once on a reel trip (phase ``land``).
+at once on a reel trip (phase ``land``), or the first loss of the autopilot's link, reboot
+or gap in ``/uav/pose`` in it (:func:`uav_bridge.report.clip_to_outages`; each is listed).
 The fouling figures and the reel's safety trips cover the flight up to the landing: a UAV
 landing beside the boat lays its tether on the sea. The landing's own trips, peak tensions
 and fouled time are given on a line of their own.
@@ -68,7 +69,10 @@ from tether_common.rotation import quaternion_rotation  # noqa: E402
 from uav_bridge.report import ARRIVAL  # noqa: E402
 from uav_bridge.report import SETTLE  # noqa: E402
 from uav_bridge.report import THESIS_INDOOR  # noqa: E402
+from uav_bridge.report import clip_to_outages  # noqa: E402
 from uav_bridge.report import hold_interval  # noqa: E402
+from uav_bridge.report import link_outages  # noqa: E402
+from uav_bridge.report import outage_lines  # noqa: E402
 from uav_bridge.report import station_keeping  # noqa: E402
 
 THESIS = {
@@ -106,6 +110,8 @@ class Run:
     tether_model: str = 'none'  # the JSON physics' tether_model, or the plant's
     max_tension: float = math.nan   # N, the reel's reel-in trip limit (params/reel.yaml), NaN when unknown
     pad: np.ndarray | None = None   # (t, x, y, z): the built-in UAV's pad in world at each /platform/reel_pose
+    uav_state: dict = field(default_factory=lambda: {c: np.zeros(0) for c in ('t', 'up', 'reboots')})   # /uav/state
+
 
 
 def _t(msg) -> float:
@@ -146,6 +152,8 @@ def load_run(path: str | Path) -> Run:
         estimate = _series(bag, '/estimate/relative', {'dz': lambda m: m.dz, 'initialized': lambda m: m.initialized})
         reel = _series(bag, '/reel/state', {'length': lambda m: m.deployed_length, 'mode': lambda m: m.mode})
         trips = _series(bag, '/reel/diagnostics', {'count': lambda m: m.trip_count})
+        uav_state = _series(bag, '/uav/state', {'up': lambda m: float(m.connected and not m.stale),
+                                                'reboots': lambda m: m.reboots})
         force_topic = '/uav/tether_force' if '/uav/tether_force' in bag.topics else '/tether/uav_wrench'
         force = _series(bag, force_topic, {'x': lambda m: m.wrench.force.x, 'y': lambda m: m.wrench.force.y,
                                            'z': lambda m: m.wrench.force.z})
@@ -158,7 +166,7 @@ def load_run(path: str | Path) -> Run:
     limit = node_parameter(path, 'reel', 'max_tension', ('smart_reel', 'reel'))
     return Run(path, name, poses, phases, np.column_stack([heave['t'], heave['heave']]), nodes, tether, truth,
                estimate, reel, trips, guide_height(path), force, str(model),
-               math.nan if limit is None else float(limit), pad)
+               math.nan if limit is None else float(limit), pad, uav_state)
 
 
 def _pad_track(bag: Bag, path: Path) -> np.ndarray | None:
@@ -229,6 +237,10 @@ def analyse(run: Run) -> dict:
     """The figures of one run (see the module docstring for the definitions)."""
     result: dict = {'run': run}
     interval = hold_interval(run.phases, run.poses) if run.poses.shape[0] else None
+    result['outages'] = link_outages(run.uav_state['t'], run.uav_state['up'] > 0.5, run.uav_state['reboots'],
+                                     run.poses[:, 0], end=max(run.heave[:, 0].max(initial=-math.inf),
+                                                              run.uav_state['t'].max(initial=-math.inf)))
+    interval = clip_to_outages(interval, result['outages'], run.poses[:, 0])
     result['interval'] = interval
     result['phases'] = list(dict.fromkeys(phase for _, phase, _, _ in run.phases))
     result['end'] = run.phases[-1][2] if run.phases else ''
@@ -305,6 +317,7 @@ def summary_lines(r: dict) -> list[str]:
     run = r['run']
     lines = [f'{run.name}: {r["duration"]:.1f} s recorded; mission phases: {" → ".join(r["phases"]) or "none"}'
              + (f'; ended: {r["end"]}' if r['end'] else '')]
+    lines += outage_lines(r['outages'], r['interval'])
     if r['interval'] is None:
         lines.append(f'  the UAV never held station (came within {ARRIVAL:g} m of it in the hold phase, then '
                      f'{SETTLE:g} s): no station-keeping, decoupling, shape or error figures')
@@ -466,10 +479,11 @@ def plot(r: dict, out: Path) -> list[str]:
         ax.set_xlabel('t (s)')
         ax.set_ylabel('m')
         ax.legend(fontsize=8)
+        until = f'before the landing at {r["landing"] - t0:.1f} s' if math.isfinite(r['landing']) else 'in the run'
         landing = r['landing_figures']
-        after = '' if landing is None else f'; the landing: {landing["fouled_time"]:.1f} s fouled'
-        ax.set_title(f'lowest point: {r["fouling_events"]} fouling events, {r["fouled_time"]:.1f} s fouled before '
-                     f'the landing{after}')
+        after = f'; {landing["fouled_time"]:.1f} s fouled in the landing' if landing is not None else ''
+        ax.set_title(f'lowest tether point: {r["fouling_events"]} fouling events (on the deck or in the sea) {until}'
+                     f'{after}')
         fig.tight_layout()
         names.append(f'{run.name}_clearance.png')
         fig.savefig(out / names[-1], dpi=100)

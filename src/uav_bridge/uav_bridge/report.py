@@ -9,10 +9,17 @@ deviation, within a 0.60 m radius; untethered 0.99 m, 0.18 m, 0.48 m), plus the 
 distance from the station. The summary says whether a tether acted on the UAV in this run
 (a ``/tether/state`` topic in the bag), since the thesis's numbers are for a tethered UAV
 flown by an RC pilot and are only comparable then.
+
+The autopilot's link losses (``/uav/state`` neither connected nor fresh, after it first
+was), its reboots (the bridge's reboot count growing) and gaps in ``/uav/pose`` longer than
+:data:`POSE_GAP` are listed (:func:`link_outages`), and the station-keeping window ends at the
+first of them (:func:`clip_to_outages`): a hold statistic, or a cross-correlation on
+interpolated poses, must not span an autopilot that was not there.
 """
 
 from __future__ import annotations
 
+from dataclasses import dataclass
 from pathlib import Path
 
 import matplotlib
@@ -29,6 +36,78 @@ ARRIVAL = 0.5
 """m: the UAV has arrived at the station when it first comes this close."""
 SETTLE = 5.0
 """s after the arrival at which the station-keeping window opens (the end of the approach)."""
+POSE_GAP = 3.0
+"""s of sim time: ``/uav/pose`` stamps further apart than this are a gap, as long as the bridge's ``link_timeout``
+(3 s) that marks the link stale. The bridge streams poses at 10-50 Hz stamped on arrival: on the shared 2-core
+machine, SITL at 10x under a graph at 5x delivered them with gaps of 1.2-2.2 s of sim time (0.24-0.44 s of wall
+time) throughout a flight, the load's jitter and no loss of the autopilot."""
+
+
+@dataclass(frozen=True)
+class Outage:
+    """A stretch of the run without the autopilot: a link loss, a reboot (start = end), a gap in the poses."""
+
+    start: float        # s, sim time
+    end: float          # s; inf: to the end of the bag
+    kind: str           # 'link lost', 'reboot', 'pose gap'
+
+    def text(self) -> str:
+        """The outage in words."""
+        if self.kind == 'reboot':
+            return f'autopilot reboot seen at {self.start:.1f} s'
+        what = 'link lost' if self.kind == 'link lost' else '/uav/pose gap'
+        if np.isinf(self.end):
+            return f'{what} from {self.start:.1f} s to the end'
+        return f'{what} {self.start:.1f}-{self.end:.1f} s ({self.end - self.start:.1f} s)'
+
+
+def link_outages(t: np.ndarray, up: np.ndarray, reboots: np.ndarray, pose_t: np.ndarray,
+                 gap: float = POSE_GAP, end: float = -np.inf) -> list[Outage]:
+    """The run's outages, by start time: from ``/uav/state`` (stamps ``t``, link ``up`` = connected and not
+    stale, the bridge's ``reboots`` count) after the link was first up, and from the ``/uav/pose`` stamps (a gap
+    also from the last pose to ``end``, the recording's end, when that is longer than ``gap``). None starting at
+    ``end``: the run's nodes stop there, SITL (its node) before the bridge when the scene lists it first, and the
+    bridge's last ``/uav/state``, stamped with the last ``/clock``, then shows a closed link.
+    """
+    outages = []
+    up = np.asarray(up, dtype=bool)
+    first = int(np.argmax(up)) if up.any() else len(up)
+    for i in range(first + 1, len(up)):
+        if up[i - 1] and not up[i]:
+            back = np.flatnonzero(up[i:])
+            outages.append(Outage(float(t[i]), float(t[i + back[0]]) if len(back) else np.inf, 'link lost'))
+    for i in np.flatnonzero(np.diff(np.asarray(reboots, dtype=float)) > 0):
+        outages.append(Outage(float(t[i + 1]), float(t[i + 1]), 'reboot'))
+    for i in np.flatnonzero(np.diff(pose_t) > gap):
+        outages.append(Outage(float(pose_t[i]), float(pose_t[i + 1]), 'pose gap'))
+    if len(pose_t) and end - pose_t[-1] > gap:
+        outages.append(Outage(float(pose_t[-1]), np.inf, 'pose gap'))
+    return sorted((o for o in outages if o.start < end or not np.isfinite(end)), key=lambda o: (o.start, o.kind))
+
+
+def clip_to_outages(interval: tuple[float, float] | None, outages: list[Outage],
+                    pose_t: np.ndarray) -> tuple[float, float] | None:
+    """The station-keeping window ended at the first outage that reaches into it; None if fewer than two of the
+    poses (stamps ``pose_t``) are left in it.
+    """
+    if interval is None:
+        return None
+    starts = [o.start for o in outages if o.end >= interval[0] and o.start < interval[1]]
+    if not starts:
+        return interval
+    end = min(starts)
+    left = int(np.count_nonzero((pose_t >= interval[0]) & (pose_t < end)))
+    return (interval[0], end) if left >= 2 else None
+
+
+def outage_lines(outages: list[Outage], interval: tuple[float, float] | None) -> list[str]:
+    """The outages in one line, and where they cut the station keeping."""
+    if not outages:
+        return [f'  autopilot: no link loss, no reboot, no /uav/pose gap over {POSE_GAP:g} s']
+    line = '  autopilot: ' + '; '.join(o.text() for o in outages)
+    if interval is not None and not np.isinf(interval[1]) and any(o.start == interval[1] for o in outages):
+        line += f'; the station-keeping figures stop at {interval[1]:.1f} s, before the first in the hold'
+    return [line]
 
 
 def _stamp(header) -> float:
@@ -49,7 +128,7 @@ def read_flight(bag_path: Path) -> dict:
             elif topic == '/mission/state':
                 phases.append((_stamp(m.header), m.phase, m.reason, (m.station.x, m.station.y, m.station.z)))
             else:
-                states.append((_stamp(m.header), m.stale, m.reconnects, m.reboots))
+                states.append((_stamp(m.header), m.stale, m.reconnects, m.reboots, m.connected))
     return {'poses': np.array(poses, dtype=float).reshape(-1, 4), 'phases': phases, 'states': states,
             'topics': topics}
 
@@ -98,7 +177,10 @@ def flight_report(bag_path: str, out_dir: str) -> list[str]:
                 + (f' (mission phase at the end: {phases[-1][1]}: {phases[-1][2]})' if phases else '')]
     lines = [f'uav: {poses.shape[0]} poses over {poses[-1, 0] - poses[0, 0]:.1f} s; mission phases: '
              + (' → '.join(dict.fromkeys(phase for _, phase, _, _ in phases)) if phases else 'no /mission/state')]
-    interval = hold_interval(phases, poses)
+    states = flight['states']
+    outages = link_outages(np.array([s[0] for s in states]), np.array([s[4] and not s[1] for s in states]),
+                           np.array([s[3] for s in states]), poses[:, 0], end=states[-1][0] if states else -np.inf)
+    interval = clip_to_outages(hold_interval(phases, poses), outages, poses[:, 0])
     station = phases[-1][3] if phases else None
     if interval is not None:
         inside = (poses[:, 0] >= interval[0]) & (poses[:, 0] < interval[1])
@@ -119,7 +201,7 @@ def flight_report(bag_path: str, out_dir: str) -> list[str]:
                      + (f' (last phase {phases[-1][1]}: {phases[-1][2]})' if phases else ''))
     if phases and phases[-1][2]:
         lines.append(f'uav mission end: {phases[-1][1]}: {phases[-1][2]}')
-    states = flight['states']
+    lines += [line.replace('  autopilot:', 'uav autopilot:', 1) for line in outage_lines(outages, interval)]
     if states:
         stale_edges = sum(1 for a, b in zip(states, states[1:]) if b[1] and not a[1])
         lines.append(f'uav link: {stale_edges} stale periods after the first message, {states[-1][2]} '

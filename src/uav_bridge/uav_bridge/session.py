@@ -331,6 +331,7 @@ class MavlinkSession:
         self._transport.close()
         self._transport = None
         self.state.connection_lost()
+        self._was_stale = True          # 'link lost' says it: no 'link stale' line after it
         self._next_connect = time.monotonic() + self._connect_backoff
         if reconnect:
             self.log('warn', f'link lost: {reason}; reconnecting with back-off up to {self.config.reconnect_max:g} s')
@@ -438,7 +439,7 @@ class MavlinkSession:
                                                       MAV_STATE_ACTIVE))
             self._next_heartbeat = now + self.config.heartbeat_period
         stale = self.state.stale(now)
-        if stale and not self._was_stale:
+        if stale and not self._was_stale and self.state.last_heartbeat is not None:
             self.log('warn', f'link stale: no HEARTBEAT for {self.config.link_timeout:g} s')
         self._was_stale = stale
         if connected and self._silent_too_long(now):

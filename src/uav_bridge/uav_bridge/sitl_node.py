@@ -2,16 +2,23 @@
 
 A thin wrapper around :class:`uav_bridge.sitl_runner.SitlRunner`, so a scene can start the
 autopilot the ``mavlink_bridge`` node connects to. SITL runs in wall time at ``speedup``; it
-waits for the bridge to connect before it runs. If SITL ends on its own the node logs its
-last lines and exits with status 1 (the bringup then ends the run naming the node); when the
-node ends, SITL is killed. The scene's ``parameters`` are confirmed on SITL's second MAVLink
-port once it runs (:mod:`uav_bridge.sitl_parameter_check`): a name SITL does not have, or a
-value it does not hold, ends the node the same way, naming them, since SITL itself skips an
-unknown name in its defaults file without a word.
+waits for the bridge to connect before it runs. If SITL ends on its own the node logs SITL's
+last lines, then the cause in one line (``SITL exited with status -9 (killed by SIGKILL)``),
+and exits with status 1, without a traceback: while the run goes on, the bringup then ends it
+naming the node and that cause; when SITL died so close to the run's end that the bringup was
+already stopping the node, the node finds it at its end and exits with status 1 all the same,
+which fails the run too. When the node ends, SITL is killed, and its working directory is
+removed unless the scene gave one (``workdir``: kept, e.g. under the run directory). The
+scene's ``parameters`` are confirmed on SITL's second MAVLink port once it runs
+(:mod:`uav_bridge.sitl_parameter_check`): a name SITL does not have, or a value it does not
+hold, ends the node the same way, naming them, since SITL itself skips an unknown name in its
+defaults file without a word.
 """
 
 from __future__ import annotations
 
+import shutil
+import signal
 import sys
 import tempfile
 import threading
@@ -54,6 +61,7 @@ class SitlNode(Node):
             params = declare_parameters(self, PARAMETERS)
             binary = locate_binary(params['binary'])
             defaults = Path(params['defaults']) if params['defaults'] else binary.parent / 'copter.parm'
+            self.temporary = not params['workdir']
             workdir = Path(params['workdir'] or tempfile.mkdtemp(prefix='tethersim-sitl-'))
             self.runner = SitlRunner(SitlConfig(binary, defaults, workdir, instance=params['instance'],
                                                 speedup=params['speedup'], model=params['model'],
@@ -61,6 +69,7 @@ class SitlNode(Node):
         except (SitlError, ValueError) as error:
             raise ConfigurationError(str(error)) from None
         self.runner.start()
+        self.failure = ''
         self.check: CheckResult | None = None
         self._stop_check = threading.Event()
         wanted = dict(self.runner.config.parameters_used)
@@ -76,28 +85,58 @@ class SitlNode(Node):
 
     def watch(self) -> None:
         """End the node when SITL ended on its own."""
-        status = self.runner.exit_status()
-        if status is not None:
-            self.get_logger().error(f'SITL exited with status {status}; its last lines:\n{self.runner.log_tail()}')
-            raise SystemExit(1)
+        if self.failure:
+            return
+        if self.runner.exit_status() is not None:
+            self._fail(self._exited())
+            return
         check, self.check = self.check, None
         if check is not None and check.problem():
-            self.get_logger().error(f'parameters: {check.problem()}')
-            raise SystemExit(1)
+            self._fail(f'parameters: {check.problem()}')
+            return
         if check is not None:
             self.get_logger().info('SITL holds the scene\'s parameters: '
                                    + ', '.join(f'{name} = {value:g}' for name, value in check.confirmed.items()))
 
+    def _exited(self) -> str:
+        """The cause of SITL's end in one line, after its last lines in the log."""
+        status = self.runner.exit_status()
+        tail = self.runner.log_tail()
+        if tail:
+            self.get_logger().info('SITL\'s last lines:\n' + tail)
+        how = f' (killed by {signal.Signals(-status).name})' if status is not None and status < 0 else ''
+        sim = self.get_clock().now().nanoseconds * 1e-9
+        return f'SITL exited with status {status}{how} at sim time {sim:.2f} s: the autopilot is gone'
+
+    def _fail(self, cause: str) -> None:
+        """Log the cause as the node's last line and end the node; :func:`main` exits with status 1."""
+        self.failure = cause
+        self.get_logger().error(cause)
+        self.context.try_shutdown()
+
     def destroy_node(self) -> None:
-        """Stop the parameter check and kill SITL with the node."""
+        """Stop the parameter check, kill SITL with the node (a SITL already dead fails the node), remove a
+        temporary working directory.
+        """
         self._stop_check.set()
+        if not self.failure and self.runner.exit_status() is not None:
+            self.failure = self._exited()
+            self.get_logger().error(f'{self.failure} (found at the end of the run)')
         self.runner.stop()
+        if self.temporary:
+            shutil.rmtree(self.runner.config.workdir, ignore_errors=True)
         super().destroy_node()
 
 
 def main(args=None):
-    """Run the SITL node."""
-    sys.exit(run_node(SitlNode, args))
+    """Run the SITL node: exit status 1 when SITL ended on its own (or its parameters are not held)."""
+    built: list[SitlNode] = []
+
+    def build() -> SitlNode:
+        built.append(SitlNode())
+        return built[0]
+    status = run_node(build, args)
+    sys.exit(status or (1 if built and built[0].failure else 0))
 
 
 if __name__ == '__main__':

@@ -8,13 +8,17 @@ keeps 5760) with PARAM_REQUEST_READ and compares the PARAM_VALUE it answers. Ard
 nothing for a name it lacks, so a name still unanswered after ``patience`` of SITL's 1 Hz
 HEARTBEATs (SITL time: SITL on the JSON physics runs only as fast as the graph) is unknown.
 Reading parameters changes nothing in the autopilot, and the check closes its link once it is
-done, during ArduCopter's wait for its EKF.
+done, during ArduCopter's wait for its EKF. A SITL that sends no HEARTBEAT for ``silence``
+seconds of wall time ends the check with that reason (the whole graph may take minutes to
+start, and SITL on the JSON physics is silent until the graph runs; a dead SITL is the sitl
+node's watch's to report).
 """
 
 from __future__ import annotations
 
 import math
 import threading
+import time
 from dataclasses import dataclass
 from dataclasses import field
 
@@ -55,7 +59,7 @@ def _same(wanted: float, held: float) -> bool:
 
 
 def check_parameters(url: str, wanted: dict[str, float], patience: int = 10, stop: threading.Event | None = None,
-                     connect_timeout: float = 600.0) -> CheckResult:
+                     connect_timeout: float = 600.0, silence: float = 600.0) -> CheckResult:
     """Ask the autopilot at ``url`` for each of ``wanted`` (name: value) and compare.
 
     ``patience`` HEARTBEATs without an answer make a name unknown; ``stop`` ends the check early
@@ -72,10 +76,16 @@ def check_parameters(url: str, wanted: dict[str, float], patience: int = 10, sto
     try:
         pending = {name.upper(): float(value) for name, value in wanted.items()}
         beats = 0
+        heard = time.monotonic()
         while pending and not stop.is_set():
             msg = link.recv_match(type=['HEARTBEAT', 'PARAM_VALUE'], blocking=True, timeout=0.5)
             if msg is None:
+                if time.monotonic() - heard > silence:
+                    result.error = (f'parameter check on {url}: no HEARTBEAT for {silence:g} s; '
+                                    f'{", ".join(sorted(pending))} not confirmed')
+                    break
                 continue
+            heard = time.monotonic()
             if msg.get_type() == 'PARAM_VALUE':
                 name = msg.param_id.rstrip('\x00')
                 if name in pending:

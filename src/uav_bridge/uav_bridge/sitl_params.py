@@ -17,6 +17,24 @@ PARAMETERS: tuple[ParamSpec, ...] = (
     ParamSpec('parameters', [], 'ArduPilot parameters NAME=VALUE overriding the defaults file (e.g. FRAME_TYPE=1 '
               'for the JSON physics\' quad X)', item_type=str, read_only=True),
     ParamSpec('home', '', 'home location lat,lng,alt,yaw; empty: SITL\'s default', read_only=True),
-    ParamSpec('workdir', '', 'SITL\'s working directory (eeprom, logs); empty: a new temporary directory',
+    ParamSpec('workdir', '', 'SITL\'s working directory (eeprom, terrain, logs), kept after the run (e.g. under '
+              'the run directory); empty: a new temporary directory, removed when the node ends',
               read_only=True),
 )
+
+
+def pace_problem(parameters: dict, rate: float) -> str | None:
+    """Why a graph at real-time factor ``rate`` cannot fly this node's SITL, or None.
+
+    SITL on its built-in physics runs at a fixed ``speedup`` times wall time, on its own clock
+    outside the lockstep: a graph faster than that outruns the autopilot (at ``--rate max`` a
+    90 s scene passed in 19 s wall while SITL lived 76 s of its time, and the mission never got
+    past its climb). SITL on the JSON physics (``model: JSON:...``) follows the graph's frames.
+    """
+    model = str(parameters.get('model', '+'))
+    speedup = float(parameters.get('speedup', 1.0))
+    if model.upper().startswith('JSON') or rate <= speedup:
+        return None
+    pace = 'max' if rate == float('inf') else f'{rate:g}'
+    return (f'--rate {pace}: SITL runs at a fixed {speedup:g}x wall time (its speedup), outside the lockstep, and '
+            f'the graph would outrun the autopilot; run at --rate {speedup:g} or less, or raise the speedup')
