@@ -223,6 +223,12 @@ class TetherPlant:
         return self._tether_mass(self._fem.deployed_rest_length() if self._fem is not None
                                  else float(self._rs[bodies.RS_LENGTH]))
 
+    def energy_balance(self) -> dict[str, float] | None:
+        """The finite-element tether's energy balance since the start (J; :meth:`FemTether.balance`),
+        or None for the quasi-static fidelity.
+        """
+        return self._fem.balance() if self._fem is not None else None
+
     def _tether_mass(self, deployed_rest: float) -> float:
         """mu (total - L) on the drum + mu ``deployed_rest`` deployed, kg."""
         mu = self.config.mass_per_length
