@@ -62,7 +62,8 @@ def test_a_step_past_the_margin_is_refused_and_a_blow_up_is_stopped(monkeypatch)
 def test_splitting_a_partly_slack_quadratic_reel_element_adds_no_tension() -> None:
     """The first split at 2.5 m/s payout cuts a reel element whose Gauss points are at stretch 0.889
     and 1.000: the old extrapolation put 569 N into a tether carrying 3 N, at every step; the
-    largest tension between nodes now stays with the linear elements' (20 N)."""
+    largest tension between nodes now stays with the linear elements' (20 N).
+    """
     _, quadratic = _peaks(hard.config('quadratic', 40, 5.0, 0.5), 1.5)
     _, linear = _peaks(hard.config('linear', 40, 5.0, 0.5), 1.5)
     assert quadratic < 1.5 * linear < 50.0
