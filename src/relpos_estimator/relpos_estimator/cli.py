@@ -177,7 +177,7 @@ def _checks(scores) -> list[str]:
                          f'the FOH\'s {s.foh_rmse * 1e3:.3f} mm')
         shifts = {k: v[3] for k, v in s.faults.items() if not np.isnan(v[3])}
         if shifts:
-            kind = max(shifts, key=shifts.get)
+            kind = max(shifts, key=lambda k: shifts[k])
             ok = shifts[kind] <= FAULT_SHIFT_LIMIT
             lines.append(f'{"PASS" if ok else "FAIL"}: {s.name}: largest fault shift {shifts[kind] * 1e3:.1f} mm '
                          f'({kind}) <= {FAULT_SHIFT_LIMIT * 1e3:.0f} mm')

@@ -59,8 +59,10 @@ from __future__ import annotations
 
 import math
 from collections import deque
+from collections.abc import Sequence
 from dataclasses import dataclass
 from dataclasses import field
+from typing import cast
 
 import numpy as np
 
@@ -203,7 +205,7 @@ class Estimator:
         """Filter tick index of time ``t`` (s)."""
         return int(round(t / self.dt))
 
-    def step(self, t: float, a_reel: float | None, a_uav: float | None, fixes: list[Fix] = ()) -> Estimate:
+    def step(self, t: float, a_reel: float | None, a_uav: float | None, fixes: Sequence[Fix] = ()) -> Estimate:
         """Advance to tick ``t``, fuse the IMU inputs and the fixes due; return the estimate.
 
         ``a_reel``, ``a_uav``: world-vertical accelerations (m/s^2, gravity removed) of the
@@ -277,7 +279,7 @@ class Estimator:
         if j < self.history[0].k:
             return self._reject(fix, 'too_old', f'time of fix {fix.fix_time:.3f} s is before the '
                                                 f'{lg.history:g} s history')
-        j = min(j, self.k)
+        j = min(j, cast(int, self.k))
         dz = float(fix.position[2])
         if not self.initialized:
             self._fuse_at(j, fix, reset=True)

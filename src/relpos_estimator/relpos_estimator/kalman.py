@@ -21,6 +21,7 @@ IMU's vertical bias and mu_2 the UAV IMU's minus the reel IMU's.
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass
 from dataclasses import fields
 
@@ -83,7 +84,7 @@ class RelativeAltitudeFilter:
         initial_variance: diagonal of P at start (SI units squared).
     """
 
-    def __init__(self, covariances: Covariances, dt: float, initial_variance: np.ndarray) -> None:
+    def __init__(self, covariances: Covariances, dt: float, initial_variance: Sequence[float] | np.ndarray) -> None:
         self.covariances = covariances
         self.kf = KalmanFilter(dim_x=5, dim_z=2)
         self.kf.F = transition(dt)
@@ -92,7 +93,8 @@ class RelativeAltitudeFilter:
         self.kf.R = covariances.R_imu
         self.kf.P = np.diag(np.asarray(initial_variance, dtype=float))
         r_imu = covariances.R_imu
-        self._imu_rows = {rows: (H_IMU[list(rows)], r_imu[np.ix_(rows, rows)]) for rows in ((0, 1), (0,), (1,))}
+        self._imu_rows: dict[tuple[int, ...], tuple[np.ndarray, np.ndarray]] = {
+            rows: (H_IMU[list(rows)], r_imu[np.ix_(rows, rows)]) for rows in ((0, 1), (0,), (1,))}
         self._r_dgps = np.array([[covariances.sigma_dgps]])
 
     @property

@@ -63,7 +63,8 @@ def _walk(residual, n1: int, n2: int) -> float:
     return (_robust_var(residual(n2)) - _robust_var(residual(n1))) / (n2 - n1)
 
 
-def _channels(rec: Recording, dt: float, period: float) -> dict[str, np.ndarray | float]:
+def _channels(rec: Recording, dt: float, period: float) -> tuple[dict[str, np.ndarray], dict[str, float]]:
+    """The channels' errors and the acceleration's changes (arrays), and the model residuals' random walks."""
     stamps = _regular(rec, dt)
     z = np.array([rec.truth[k] for k in stamps])
     v, a = np.array([rec.truth_motion[k] for k in stamps]).T
@@ -79,12 +80,9 @@ def _channels(rec: Recording, dt: float, period: float) -> dict[str, np.ndarray 
         return v[i + n] - v[i] - (integral_a[i + n] - integral_a[i])
 
     n1, n2 = max(1, int(round(period / dt))), int(round(WALK_SPAN / dt))
-    return {
-        'y1': -np.array([rec.reel[k] for k in stamps]) - a,
-        'y2': np.array([rec.uav[k] - rec.reel[k] for k in stamps]) - a,
-        'z_walk': _walk(z_residual, n1, n2), 'v_walk': _walk(v_residual, n1, n2),
-        'da': np.diff(a),
-    }
+    return ({'y1': -np.array([rec.reel[k] for k in stamps]) - a,
+             'y2': np.array([rec.uav[k] - rec.reel[k] for k in stamps]) - a, 'da': np.diff(a)},
+            {'z_walk': _walk(z_residual, n1, n2), 'v_walk': _walk(v_residual, n1, n2)})
 
 
 def _bias_walk(error: np.ndarray, dt: float) -> float:
@@ -96,12 +94,14 @@ def _bias_walk(error: np.ndarray, dt: float) -> float:
 
 def measured_covariances(recs: list[Recording], dt: float = 0.01, fix_period: float = 0.25) -> Covariances:
     """Q and R diagonal entries measured on ``recs`` (see the module docstring), SI units squared."""
-    parts = [_channels(rec, dt, fix_period) for rec in recs]
+    channels = [_channels(rec, dt, fix_period) for rec in recs]
+    parts = [errors for errors, _ in channels]
+    walks = [walk for _, walk in channels]
     joined = {name: np.concatenate([p[name] for p in parts]) for name in ('y1', 'y2', 'da')}
     sigmas = [f.std[2] ** 2 for rec in recs for f in rec.fixes
               if f.status >= STATUS_RTK_FIXED and np.isfinite(f.std[2])]
     values = {
-        'sigma_z': np.mean([p['z_walk'] for p in parts]), 'sigma_zdot': np.mean([p['v_walk'] for p in parts]),
+        'sigma_z': np.mean([w['z_walk'] for w in walks]), 'sigma_zdot': np.mean([w['v_walk'] for w in walks]),
         'sigma_zddot': _robust_var(joined['da']),
         'sigma_mu1': np.mean([_bias_walk(p['y1'], dt) for p in parts]),
         'sigma_mu2': np.mean([_bias_walk(p['y2'], dt) for p in parts]),

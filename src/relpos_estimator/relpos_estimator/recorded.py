@@ -168,13 +168,13 @@ def counterfactual_fixes(rec: Recording, kind: str) -> list[Fix]:
                 fixes.append(f)
             seen.add((f.sequence, f.fix_time))
         return fixes
-    for f in faults:
+    for fault in faults:
         if kind == 'late':
-            original = next(x for x in rec.fixes if x.sequence == f.sequence)
-            fixes.append(replace(original, arrival=f.fix_time + CLEAN_LATENCY))
+            original = next(x for x in rec.fixes if x.sequence == fault.sequence)
+            fixes.append(replace(original, arrival=fault.fix_time + CLEAN_LATENCY))
         else:
-            fixes.append(Fix(f.fix_time + CLEAN_LATENCY, f.fix_time, f.truth.copy(), np.full(3, 0.01),
-                             STATUS_RTK_FIXED, f.sequence))
+            fixes.append(Fix(fault.fix_time + CLEAN_LATENCY, fault.fix_time, fault.truth.copy(), np.full(3, 0.01),
+                             STATUS_RTK_FIXED, fault.sequence))
     return fixes
 
 

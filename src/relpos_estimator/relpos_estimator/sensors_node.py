@@ -150,8 +150,9 @@ class SensorsNode(Node):
         slider = self.sliders.get(t_ns) if self.vibrating else STILL
         if any(p is None for p in poses) or slider is None:
             return None
-        positions = [p for p, _ in poses]
-        quaternions = [q for _, q in poses]
+        known = [p for p in poses if p is not None]
+        positions = [p for p, _ in known]
+        quaternions = [q for _, q in known]
         acceleration = (positions[2] - 2.0 * positions[1] + positions[0]) / self.dt**2
         angular_velocity = rotation_vector_between(quaternions[0], quaternions[2]) / (2.0 * self.dt)
         if self.params['truth'] == 'plant':

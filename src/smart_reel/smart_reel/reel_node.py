@@ -31,6 +31,7 @@ from __future__ import annotations
 
 import math
 import sys
+from typing import cast
 
 from rclpy.node import Node
 from tether_msgs.msg import ReelCommand
@@ -175,7 +176,7 @@ class ReelNode(Node):
                                    else ReelControllerDiagnostics.SCHEDULER_FAST)
             msg.p_term, msg.d_term, msg.i_term = c.pid.p_term, c.pid.d_term, c.pid.i_term
             msg.voltage_saturated = c.pid.saturated
-            msg.relative_radial = self.core.radial.value
+            msg.relative_radial = cast(ReelCore, self.core).radial.value
         else:
             msg.reference_length = msg.filtered_reference_length = msg.length_error = math.nan
             msg.relative_radial = math.nan

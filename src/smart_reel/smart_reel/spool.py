@@ -47,7 +47,8 @@ class SpoolGeometry:
         self.capacity = capacity
         self.linear_density = linear_density
         self.turns_per_layer = math.floor(width / tether_diameter)
-        radii, lengths, angles, inertias = [], [0.0], [0.0], [0.0]
+        radii: list[float] = []
+        lengths, angles, inertias = [0.0], [0.0], [0.0]
         while lengths[-1] < capacity:
             r = core_radius + tether_diameter * (0.5 + len(radii))
             layer = 2.0 * math.pi * r * self.turns_per_layer

@@ -145,15 +145,18 @@ def _on(t_from: np.ndarray, values: np.ndarray, t_to: np.ndarray) -> np.ndarray:
     return np.interp(t_to, t_from, values)
 
 
-def _lag(t: np.ndarray, measured: np.ndarray, theory: np.ndarray, max_lag: float = 5.0) -> float:
-    """Lag (s) of the normalised cross-correlation's peak; positive when ``measured`` lags."""
+def _lag(t: np.ndarray, measured: np.ndarray, theory: np.ndarray,
+         max_lag: float = 5.0) -> tuple[float, np.ndarray, np.ndarray]:
+    """Lag (s) of the normalised cross-correlation's peak (positive when ``measured`` lags), the lags (s)
+    and the correlation at each.
+    """
     dt = float(np.median(np.diff(t)))
     a = measured - measured.mean()
     b = theory - theory.mean()
     n = len(a)
     k = min(int(max_lag / dt), n // 2)
     lags = np.arange(-k, k + 1)
-    corr = np.array([np.dot(a[max(0, l):n + min(0, l)], b[max(0, -l):n - max(0, l)]) for l in lags])
+    corr = np.array([np.dot(a[max(0, l):n + min(0, l)], b[max(0, -l):n - max(0, l)]) for l in lags.tolist()])
     corr /= np.sqrt(np.dot(a, a) * np.dot(b, b))
     return float(lags[np.argmax(corr)] * dt), lags * dt, corr
 

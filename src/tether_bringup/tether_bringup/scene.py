@@ -35,6 +35,7 @@ import sys
 from dataclasses import dataclass
 from dataclasses import field
 from pathlib import Path
+from typing import Any
 
 import yaml
 from ament_index_python.packages import PackageNotFoundError
@@ -166,7 +167,7 @@ def scene_from_data(path: Path, data: object) -> Scene:
     for key in data:
         if key not in TOP_LEVEL:
             raise fail(key, f'unknown key (expected one of {", ".join(TOP_LEVEL)})')
-    values = {}
+    values: dict[str, Any] = {}
     for key, spec in TOP_LEVEL.items():
         if spec is None:
             continue

@@ -75,11 +75,11 @@ from collections.abc import Callable
 from collections.abc import Sequence
 from dataclasses import dataclass
 from dataclasses import field
+from typing import Any
 
 from builtin_interfaces.msg import Time as TimeMsg
 from rclpy.clock import Clock
 from rclpy.clock import ClockType
-from rclpy.impl.implementation_singleton import rclpy_implementation as _rclpy
 from rclpy.node import Node
 from rclpy.publisher import Publisher
 from rclpy.qos import QoSProfile
@@ -95,6 +95,8 @@ from tether_common.qos import CLOCK
 from tether_common.qos import IDLE_READER
 from tether_common.qos import LOCKSTEP_ACK
 from tether_common.qos import STATE
+from tether_common.rclpy_internals import as_subclass
+from tether_common.rclpy_internals import idle_reader
 from tether_common.record_stream import StreamWriter
 
 ACK_TOPIC = '/lockstep/ack'
@@ -200,7 +202,8 @@ class _Stream:
         self.period_ns = period
         self.messages: deque = deque()
         self.latest_ns = -1
-        self.subscription = None
+        self.subscription: Any = None
+        """The stream's rclpy subscription, or once linked in process its idle DDS reader."""
         self.tasks: list[tuple[_Task, int]] = []
         """The tasks selecting from this stream, each with its input's delay, ns."""
 
@@ -279,10 +282,10 @@ class Lockstep:
         self._clock_ns = 0
         self._acked_ns = -1
         self._joined = False
-        self._stalled_at = None
+        self._stalled_at: tuple[int, str, int, int] | None = None
         self._waiting: tuple[_Stream, int] | None = None
         """The input and stamp the next tick waits for: until that stamp arrives no tick can run."""
-        self._ready_since = None
+        self._ready_since: float | None = None
         self._expected_nodes = {name for name in os.environ.get(NODES_VARIABLE, '').split(',') if name}
         self._recorder_ready = os.environ.get(RECORDER_READY_VARIABLE, '')
         _CALLBACK_CPU.setdefault(self._name, 0.0)
@@ -505,7 +508,7 @@ class GroupPublisher(Publisher):
         write = self.get_subscription_count() > self.idle_readers
         if write or self.record is not None:
             data = msg
-            if isinstance(msg, self.msg_type):
+            if isinstance(msg, self.msg_type):  # type: ignore[arg-type]  # rclpy's MsgType protocol: the class
                 if self.serialize is not None:
                     data = self.serialize(msg)
                 elif self.record is not None:  # a type cdr does not write: rclpy's bytes serve DDS and the stream
@@ -534,8 +537,7 @@ class InProcessLinks:
         """
         msg_type, topic = subscription.msg_type, subscription.topic_name
         node.destroy_subscription(subscription)
-        with node.handle:
-            reader = _rclpy.Subscription(node.handle, msg_type, topic, IDLE_READER.get_c_qos_profile())
+        reader = idle_reader(node, msg_type, topic, IDLE_READER)
         self.readers.append(reader)
         self.idle_topics[topic] = self.idle_topics.get(topic, 0) + 1
         return reader
@@ -544,6 +546,10 @@ class InProcessLinks:
         for reader in self.readers:
             reader.destroy_when_not_in_use()
         self.readers.clear()
+
+
+def _input_delivery(lockstep: Lockstep, stream: _Stream) -> Callable[[object], None]:
+    return lambda msg: lockstep._on_input(stream, msg)
 
 
 def _plain_delivery(callback: Callable, raw: bool) -> Callable[[object], None]:
@@ -566,10 +572,10 @@ def link_in_process(nodes: Sequence[Node], record: StreamWriter | None = None) -
     only by another process stays a DDS subscription.
     """
     links = InProcessLinks()
-    publishers: dict[str, list[Publisher]] = {}
+    publishers: dict[str, list[GroupPublisher]] = {}
     for node in nodes:
-        for publisher in node.publishers:
-            _to_group_publisher(publisher)
+        for plain in node.publishers:
+            publisher = _to_group_publisher(plain)
             publishers.setdefault(publisher.topic_name, []).append(publisher)
             if record is not None and publisher.topic_name != ACK_TOPIC:
                 publisher.record = record
@@ -591,7 +597,7 @@ def link_in_process(nodes: Sequence[Node], record: StreamWriter | None = None) -
             topic = stream.subscription.topic_name
             if topic in publishers:
                 stream.subscription = links.idle(node, stream.subscription)
-                link(topic, lambda msg, lockstep=lockstep, stream=stream: lockstep._on_input(stream, msg))
+                link(topic, _input_delivery(lockstep, stream))
     for node in nodes:
         for subscription in list(node.subscriptions):
             topic = subscription.topic_name
@@ -605,10 +611,10 @@ def link_in_process(nodes: Sequence[Node], record: StreamWriter | None = None) -
     return links
 
 
-def _to_group_publisher(publisher: Publisher) -> None:
-    if isinstance(publisher, GroupPublisher):
-        return
-    publisher.__class__ = GroupPublisher
+def _to_group_publisher(plain: Publisher) -> GroupPublisher:
+    if isinstance(plain, GroupPublisher):
+        return plain
+    publisher = as_subclass(plain, GroupPublisher)
     publisher.handoffs = []
     publisher.record = None
     publisher.idle_readers = 0
@@ -616,6 +622,7 @@ def _to_group_publisher(publisher: Publisher) -> None:
         publisher.serialize = cdr.serializer(publisher.msg_type)
     except NotImplementedError:
         publisher.serialize = None
+    return publisher
 
 
 def _share_clock(locksteps: list[Lockstep], links: InProcessLinks) -> None:
@@ -630,5 +637,5 @@ def _share_clock(locksteps: list[Lockstep], links: InProcessLinks) -> None:
     locksteps[0]._clock_shared = list(locksteps)
 
 
-def _message_class(msg_type: type | str) -> type:
+def _message_class(msg_type: type | str) -> Any:
     return message_class(msg_type) if isinstance(msg_type, str) else msg_type

@@ -44,9 +44,9 @@ from rclpy.executors import Executor
 from rclpy.executors import ExternalShutdownException
 from rclpy.executors import SingleThreadedExecutor
 from rclpy.experimental import EventsExecutor
-from rclpy.impl.implementation_singleton import rclpy_implementation
 from rclpy.node import Node
 
+from tether_common.rclpy_internals import RCLError
 from tether_common.record_stream import StreamWriter
 
 SPIN_TIMEOUT = 0.5
@@ -199,7 +199,7 @@ def _init(args: list[str] | None) -> str | None:
         os.dup2(held.fileno(), 2)
         try:
             rclpy.init(args=args)
-        except rclpy_implementation.RCLError as error:
+        except RCLError as error:
             return re.sub(r', at \S+:\d+', '', str(error)).removeprefix('failed to initialize rcl: ')
         finally:
             os.dup2(saved, 2)

@@ -11,6 +11,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import Any
 
 ParamValue = bool | int | float | str | list
 
@@ -106,7 +107,7 @@ class ParamSpec:
             return None
         return self._check_scalar(value, self.kind)
 
-    def coerce(self, value: object) -> ParamValue:
+    def coerce(self, value: Any) -> ParamValue:
         """Return ``value`` in the parameter's own type (an int given for a float)."""
         if self.kind is float and isinstance(value, int) and not isinstance(value, bool):
             return float(value)
@@ -114,7 +115,7 @@ class ParamSpec:
             return [float(item) for item in value]
         return value
 
-    def _check_scalar(self, value: object, kind: type | None) -> str | None:
+    def _check_scalar(self, value: Any, kind: Any) -> str | None:
         ok = isinstance(value, kind) and not (kind is not bool and isinstance(value, bool))
         if kind is float and isinstance(value, int) and not isinstance(value, bool):
             ok = True
@@ -141,10 +142,10 @@ class ParamSpec:
         return None
 
 
-_PLURAL = {bool: 'booleans', int: 'integers', float: 'numbers', str: 'strings'}
+_PLURAL: dict[Any, str] = {bool: 'booleans', int: 'integers', float: 'numbers', str: 'strings'}
 
 
-def _type_name(kind: type | None) -> str:
+def _type_name(kind: Any) -> str:
     return {bool: 'a boolean', int: 'an integer', float: 'a number', str: 'a string'}.get(kind, str(kind))
 
 

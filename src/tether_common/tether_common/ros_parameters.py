@@ -14,6 +14,7 @@ and exits with status 2). An integer given for a floating-point parameter
 from __future__ import annotations
 
 from collections.abc import Callable
+from typing import Any
 
 from rcl_interfaces.msg import FloatingPointRange
 from rcl_interfaces.msg import IntegerRange
@@ -28,7 +29,7 @@ from tether_common.parameters import spec_table
 
 
 def declare_parameters(node: Node, specs: tuple[ParamSpec, ...],
-                       on_change: Callable[[str, object], None] | None = None) -> dict[str, object]:
+                       on_change: Callable[[str, object], None] | None = None) -> dict[str, Any]:
     """Declare every parameter of ``specs`` on ``node`` and return their checked values.
 
     Each parameter is first declared dynamically typed, so that rclpy takes any value
@@ -86,7 +87,7 @@ _SCALAR_TYPES = {
     float: Parameter.Type.DOUBLE,
     str: Parameter.Type.STRING,
 }
-_ARRAY_TYPES = {
+_ARRAY_TYPES: dict[type | None, Parameter.Type] = {
     bool: Parameter.Type.BOOL_ARRAY,
     int: Parameter.Type.INTEGER_ARRAY,
     float: Parameter.Type.DOUBLE_ARRAY,

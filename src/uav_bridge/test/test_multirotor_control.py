@@ -8,12 +8,12 @@ import numpy as np
 import pytest
 from scipy.spatial.transform import Rotation
 
+from tether_common.constants import GRAVITY
 from tether_dynamics.plant import bodies
 from tether_dynamics.plant.config import UavConfig
 from uav_bridge.multirotor_control import StationController
 from uav_bridge.multirotor_control import UavBodyState
 
-GRAVITY = 9.80665
 STATION = np.array([15.0, 0.0, 30.0])
 
 

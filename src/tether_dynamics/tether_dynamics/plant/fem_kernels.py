@@ -422,6 +422,11 @@ def _reparametrised(xa, xb, xc, l0, zetas, out):
             sq += d * d
         lam[gi] = 2.0 * np.sqrt(sq) / l0
     slope = (lam[1] - lam[0]) / (GAUSS[1] - GAUSS[0])
+    # A partly slack element (a Gauss point at stretch <= 1): its line through the Gauss points,
+    # extrapolated past the taut one, put stretch the element never had on the new elements
+    # (a split of a 0.889 / 1.000 reel element: 570 N in a tether carrying 3 N); held between them.
+    low, high = min(lam[0], lam[1]), max(lam[0], lam[1])
+    partly_slack = low <= 1.0
     speed_prev, bel_prev = 0.0, 0.0
     for i in range(m + 1):
         z = zg[i]
@@ -430,7 +435,10 @@ def _reparametrised(xa, xb, xc, l0, zetas, out):
             d = (z - 0.5) * xa[c] - 2.0 * z * xb[c] + (z + 0.5) * xc[c]
             sq += d * d
         speed = np.sqrt(sq)
-        bel = max(lam[0] + slope * (z - GAUSS[0]), 1e-3)
+        bel = lam[0] + slope * (z - GAUSS[0])
+        if partly_slack:
+            bel = min(max(bel, low), high)
+        bel = max(bel, 1e-3)
         if i > 0:
             arc[i] = arc[i - 1] + 0.5 * (speed + speed_prev) * (zg[i] - zg[i - 1])
             believed[i] = believed[i - 1] + 0.5 * (bel + bel_prev) * (zg[i] - zg[i - 1])
@@ -759,6 +767,30 @@ def advance(x, v, rest, st, fp, rs, rp, g_tab, u_tab, t_a, t_b, n_sub, bs, inert
                 st[ST_STATUS] = STATUS_NONFINITE
                 return
     _set_ends(x, v, st[ST_NODES], st[ST_BODY] == 1, bs, rho, g_tab, u_tab, t_a, t_b, t_b, p0, v0, pf, vf)
+    if not _all_finite(x, v, rest, st[ST_NODES], order, bs, rs, acc):
+        st[ST_STATUS] = STATUS_NONFINITE
+
+
+@njit(cache=True)
+def _all_finite(x, v, rest, n, order, bs, rs, acc):
+    """Whether every number a step hands back is finite: the nodes' positions and velocities,
+    the rest lengths, the UAV body, the winch and the energy accumulators (node 1, checked every
+    internal step, can stay finite while a node further out has overflowed).
+    """
+    total = 0.0
+    for i in range(n):
+        for c in range(3):
+            total += 0.0 * (x[i, c] + v[i, c])
+    for e in range((n - 1) // order):
+        total += 0.0 * rest[e]
+    for k in range(bs.size):
+        total += 0.0 * bs[k]
+    for k in range(rs.size):
+        total += 0.0 * rs[k]
+    for k in range(acc.size):
+        if k != ACC_LAST_T:
+            total += 0.0 * acc[k]
+    return np.isfinite(total)
 
 
 @njit(cache=True)

@@ -102,15 +102,57 @@ from tether_dynamics.plant import quasi_static
 from tether_dynamics.plant.bodies import RS_RATE
 from tether_dynamics.plant.config import PlantConfig, PlantConfigError
 
+# The step the plant accepts, as a share of the estimate :func:`stable_step` (its margin): 0.9 when
+# internal damping damps the highest axial mode by a ratio of at least DAMPED_RATIO, 0.5 without.
+# Measured (bench/plant_stability: a stiff, light tether, EA 40 kN, 0.01 kg/m, on a heaving, paying-out
+# reel with the far end driven sideways): undamped, linear N = 40 peaks at 122, 201, 409 and 4,455 N at
+# 0.3, 0.5, 0.7 and 0.9 of the estimate (energy residual 0.009, 0.022, 0.12 and 5.9 of the throughput),
+# quadratic N = 40 at 0.9 reaches 430 N (residual 0.32); with c = 1 N s (ratio 0.07) linear N = 40 peaks
+# at 139.8, 139.4, 139.0 and 139.9 N at the same steps.
 STABLE_FRACTION = 0.9
+UNDAMPED_FRACTION = 0.5
+DAMPED_RATIO = 0.01
+# The energy-balance watchdog (FemTether._watch): a run stops once the balance's residual exceeds
+# WATCHDOG_SHARE of the energy throughput plus WATCHDOG_FLOOR of mu g L^2 (L deployed): more energy made
+# or lost by the integration than flowed through the tether. Measured (bench/plant_stability, a stiff
+# light tether on a moving reel, every accepted step): healthy runs <= 0.34 of the throughput after
+# the first 0.5 s and <= 5.3e-4 mu g L^2 in it (the start, when next to nothing has flowed); blown-up
+# runs 5.9 (this bench) and 2.5 to 880 (issue 36's held-out case).
+WATCHDOG_SHARE = 1.0
+WATCHDOG_FLOOR = 1e-3
 
 
 class PlantDivergenceError(RuntimeError):
     """The finite-element tether left the physical range; the message names how."""
 
 
+def damping_ratio(config: PlantConfig) -> float:
+    """Kelvin-Voigt damping ratio of the highest axial mode, c omega / (2 EA) (0 without damping),
+    omega from the shortest reel element (:func:`stable_step`'s mode).
+    """
+    if 'damping' not in config.effects or config.damping <= 0.0:
+        return 0.0
+    h = config.nominal_element_length
+    if config.fidelity == 'quadratic':
+        omega = _quadratic_highest_omega(config, fk.MERGE_QUADRATIC * h, h)
+    else:
+        omega = math.sqrt(2.0 * config.ea / (config.mass_per_length * fk.MERGE * h * h))
+    return config.damping * omega / (2.0 * config.ea)
+
+
+def accepted_step(config: PlantConfig) -> float:
+    """The largest internal step (s) the plant accepts: the stable-step estimate times its margin,
+    STABLE_FRACTION when internal damping damps the highest mode (ratio >= DAMPED_RATIO),
+    UNDAMPED_FRACTION otherwise (module constants: the measurements behind them).
+    """
+    damped = damping_ratio(config) >= DAMPED_RATIO
+    return (STABLE_FRACTION if damped else UNDAMPED_FRACTION) * stable_step(config)
+
+
 def stable_step(config: PlantConfig) -> float:
-    """Largest stable internal step (s) of the moving-reel FEM for this configuration."""
+    """Largest stable internal step (s) of the moving-reel FEM for this configuration (the estimate
+    of a fixed mesh; :func:`accepted_step` is what the plant accepts).
+    """
     h = config.nominal_element_length
     c = math.sqrt(config.ea / config.mass_per_length)
     if config.fidelity == 'quadratic':
@@ -131,6 +173,15 @@ def _quadratic_stable_step(config: PlantConfig, shortest: float, h: float) -> fl
     Gauss stiffness, Eq. D.8): dt = 2 / omega (sqrt(1 + xi^2) - xi), with the Kelvin-Voigt
     damping ratio xi = c omega / (2 EA) of that mode.
     """
+    omega = _quadratic_highest_omega(config, shortest, h)
+    xi = config.damping * omega / (2.0 * config.ea) if 'damping' in config.effects else 0.0
+    return 2.0 / omega * (math.sqrt(1.0 + xi * xi) - xi)
+
+
+def _quadratic_highest_omega(config: PlantConfig, shortest: float, h: float) -> float:
+    """Highest axial angular frequency (rad/s) of a chain of quadratic elements of rest lengths
+    (shortest, h, h) with lumped masses 1/6, 2/3, 1/6 and 2-point Gauss stiffness (Eq. D.8).
+    """
     ea, mu = config.ea, config.mass_per_length
     slope = 2.0 * np.array([[z - 0.5, -2.0 * z, z + 0.5] for z in fk.GAUSS])
     rests = (shortest, h, h)
@@ -141,9 +192,7 @@ def _quadratic_stable_step(config: PlantConfig, shortest: float, h: float) -> fl
         stiff[idx, idx] += ea / (2.0 * l0) * slope.T @ slope
         mass[idx] += mu * l0 * np.array([1.0, 4.0, 1.0]) / 6.0
     scale = 1.0 / np.sqrt(mass)
-    omega = math.sqrt(float(np.max(np.linalg.eigvalsh(scale[:, None] * stiff * scale[None, :]))))
-    xi = config.damping * omega / (2.0 * ea) if 'damping' in config.effects else 0.0
-    return 2.0 / omega * (math.sqrt(1.0 + xi * xi) - xi)
+    return math.sqrt(float(np.max(np.linalg.eigvalsh(scale[:, None] * stiff * scale[None, :]))))
 
 
 def _strain_points(rest: np.ndarray, order: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -236,10 +285,11 @@ class FemTether:
         self.order = 2 if config.fidelity == 'quadratic' else 1
         cfg = config
         h = cfg.nominal_element_length
-        limit = STABLE_FRACTION * stable_step(cfg)
+        limit = accepted_step(cfg)
         if cfg.dt > limit:
             msg = (f'dt {cfg.dt:.3g} s is above the stable step {limit:.3g} s of elements of {h:.3g} m '
-                   f'(EA {cfg.ea:g} N, mu {cfg.mass_per_length:g} kg/m); reduce dt or lengthen the elements')
+                   f'(EA {cfg.ea:g} N, mu {cfg.mass_per_length:g} kg/m, damping ratio {damping_ratio(cfg):.3g}); '
+                   'reduce dt or lengthen the elements')
             raise PlantConfigError(msg)
         if cfg.reshape == 'uniform':
             cap = cfg.elements + 1
@@ -344,6 +394,21 @@ class FemTether:
         if status == fk.STATUS_SHORT:
             msg = f"the reel element's rest length reached zero before t = {t_b:.6g} s (method {cfg.reshape!r})"
             raise PlantDivergenceError(msg)
+        self._watch(t_b)
+
+    def _watch(self, t: float) -> None:
+        """The energy-balance watchdog: raise :class:`PlantDivergenceError` when the balance's
+        residual exceeds WATCHDOG_SHARE of the energy throughput (plus WATCHDOG_FLOOR of the
+        tether's weight times its deployed length, for the first steps, when next to nothing has flowed).
+        """
+        bal = self.balance()
+        residual, throughput = abs(bal['residual']), bal['throughput']
+        cfg = self.config
+        floor = WATCHDOG_FLOOR * cfg.mass_per_length * cfg.gravity * self.deployed_rest_length() ** 2
+        if residual > WATCHDOG_SHARE * throughput + floor:
+            msg = (f'energy balance residual {residual:.3g} J exceeds {WATCHDOG_SHARE:g} of the energy throughput '
+                   f'{throughput:.3g} J at t = {t:.6g} s: the explicit step {cfg.dt:.3g} s diverged; reduce dt')
+            raise PlantDivergenceError(msg)
 
     @property
     def n(self) -> int:
@@ -369,6 +434,9 @@ class FemTether:
         feed = float(self.fp[fk.FP_PAYOUT]) if self.config.reshape == 'ale' else 0.0
         fk.report(self.x, self.v, self.rest, n, self.fp, self.order, bool(self.st[fk.ST_KV]), feed, nodes, velocities,
                   arc, lumps, seg, reel, uav, lowest, values)
+        if not all(np.isfinite(a).all() for a in (seg, reel, uav, lowest, values)):
+            msg = 'the tether\'s tensions or energies became non-finite: reduce dt'
+            raise PlantDivergenceError(msg)
         return nodes, velocities, arc, lumps, seg, reel, uav, lowest, values
 
     def deployed_rest_length(self) -> float:

@@ -128,8 +128,9 @@ class TetherPlant:
         cfg = self.config
         n_sub = max(1, int(math.ceil((t_b - t_a) / cfg.dt - 1e-9)))
         dt = (t_b - t_a) / n_sub
+        assert self._guide is not None and (uav is None or self._uav is not None), 'set by the first step'
         g_tab = hermite_table(self._guide, guide)
-        u_tab = hermite_table(self._uav, uav) if uav is not None else None
+        u_tab = hermite_table(self._uav, uav) if uav is not None and self._uav is not None else None
         torque_input = cfg.reel.input == 'torque'
         if self._fem is not None:
             self._fem.advance(t_a, t_b, n_sub, g_tab, u_tab, self._rs, self._rp, torque_input, self._command,
@@ -158,16 +159,19 @@ class TetherPlant:
 
     def _outputs(self, t: float, inputs: PlantInputs, deck: float) -> PlantOutputs:
         cfg = self.config
+        guide, uav = self._guide, self._uav
+        assert guide is not None and (cfg.uav.mode != 'prescribed' or uav is not None), 'set by the first step'
         if cfg.uav.mode == 'prescribed':
             rot = self._uav_rotation
             upos, uvel = np.asarray(inputs.uav_position, float), np.asarray(inputs.uav_velocity, float)
             uacc, uquat = np.zeros(3), rot.as_quat()
             uom = np.asarray(inputs.uav_angular_velocity, float)
-            end, end_velocity = self._uav.position, self._uav.velocity
+            assert uav is not None
+            end, end_velocity = uav.position, uav.velocity
         else:
             upos, uvel, uacc, uquat, uom = self._uav_state()
             end, end_velocity = self._attach()
-        a = self._guide.position
+        a = guide.position
         length = float(self._rs[bodies.RS_LENGTH])
         mu, g = cfg.mass_per_length, cfg.gravity
         if self._fem is None:
@@ -204,7 +208,7 @@ class TetherPlant:
         sea = float(inputs.sea_surface_height)
         return PlantOutputs(
             t=t, fidelity=cfg.fidelity, element_count=self._fem.elements if self._fem is not None else len(nodes) - 1,
-            reel_end=a.copy(), uav_end=end.copy(), reel_end_velocity=self._guide.velocity.copy(),
+            reel_end=a.copy(), uav_end=end.copy(), reel_end_velocity=guide.velocity.copy(),
             uav_end_velocity=end_velocity.copy(),
             deployed_length=length, payout_rate=cfg.reel.spool_radius * float(self._rs[bodies.RS_RATE]),
             spool_angle=float(self._rs[bodies.RS_ANGLE]), spool_rate=float(self._rs[bodies.RS_RATE]),
@@ -222,6 +226,12 @@ class TetherPlant:
         """Drum + deployed tether mass, kg: mu (total - L) + sum of the elements' rest masses."""
         return self._tether_mass(self._fem.deployed_rest_length() if self._fem is not None
                                  else float(self._rs[bodies.RS_LENGTH]))
+
+    def energy_balance(self) -> dict[str, float] | None:
+        """The finite-element tether's energy balance since the start (J; :meth:`FemTether.balance`),
+        or None for the quasi-static fidelity.
+        """
+        return self._fem.balance() if self._fem is not None else None
 
     def _tether_mass(self, deployed_rest: float) -> float:
         """mu (total - L) on the drum + mu ``deployed_rest`` deployed, kg."""
