@@ -110,7 +110,7 @@ def build_core(params: dict, initial_length: float) -> ReelCore:
                     reference_mode=params['reference_mode'],
                     scheduler=SchmittScheduler(params['schedule_upper'], params['schedule_lower'],
                                                params['alpha_slow']),
-                    taut_torque=params['taut_torque'], min_slack=params['min_slack'], sync_gain=params['sync_gain'],
+                    taut_torque=params['taut_torque'], min_slack=params['min_slack'], lead=params['lead'], sync_gain=params['sync_gain'],
                     stiffness=TetherStiffness(params['linear_density'], params['axial_stiffness']))
 
 
@@ -121,13 +121,14 @@ class ReelCore:
                  step: float, control_period: float, radial_period: float, kp: float, kd: float, ki: float,
                  voltage_limit: float, reference_mode: str, scheduler: SchmittScheduler,
                  taut_torque: float, sync_gain: float = 10.0, stiffness: TetherStiffness | None = None,
-                 min_slack: float = 0.0) -> None:
+                 min_slack: float = 0.0, lead: float = 0.0) -> None:
         if controller not in CONTROLLERS:
             raise ValueError(f'controller must be one of {CONTROLLERS}, got {controller!r}')
         ratio = control_period / step
         if abs(ratio - round(ratio)) > 1e-6 or round(ratio) < 1:
             raise ValueError(f'the control period {control_period} s must be a whole number of steps of {step} s')
         self.mode = controller
+        self.lead = lead
         self.winch = winch
         self.encoder = encoder
         self.arm = arm
@@ -212,7 +213,8 @@ class ReelCore:
         else:
             dr = self.radial.update(t, inputs.dr)
             applied = self._command if self._drive == VOLTAGE else 0.0
-            self._control = self.catenary.step(dr, inputs.dz, inputs.dz_rate or 0.0, length, applied)
+            dz = inputs.dz + self.lead * (inputs.dz_rate or 0.0)
+            self._control = self.catenary.step(dr, dz, inputs.dz_rate or 0.0, length, applied)
             drive, command, direction = VOLTAGE, self._control.voltage, self._control.voltage
         self._trip = self.safety.check(t, direction, inputs.clearance, self._arm_angle, tension)
         if self._trip:

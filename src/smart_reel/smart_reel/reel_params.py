@@ -23,6 +23,9 @@ PARAMETERS: tuple[ParamSpec, ...] = (
     ParamSpec('min_slack', 0.0, 'the reference length is at least the chord plus this: slack for the error of the '
               'relative position where the model\'s own slack is smaller (short ranges: the landing on the pad); '
               '0: the model alone (smart_reel.controller)', 'm', low=0.0, high=10.0, read_only=True),
+    ParamSpec('lead', 0.0, 'the relative height the controller uses is the input extrapolated this far ahead '
+              'with its vertical rate (dz + lead dz_rate): with the input\'s age, input_delay, it makes up for the '
+              'loop latency; 0: the input as it is (the thesis)', 's', low=0.0, high=1.0, read_only=True),
     ParamSpec('step', 0.01, 'winch step and /reel/command period; the plant step it exchanges with', 's',
               low=1e-4, high=0.1, read_only=True),
     ParamSpec('control_rate', 50.0, 'PD controller rate (Sec. 4.2)', 'Hz', low=1.0, high=1000.0, read_only=True),

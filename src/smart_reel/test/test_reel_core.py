@@ -129,3 +129,27 @@ def test_estimator_corrections_at_each_fix_keep_the_drive_off_its_current_limit_
     assert np.max(np.abs(np.array(estimates) - tension)) < 0.5
     assert limited == 0
     assert core.safety.trips == 0
+
+
+def _first_reference(**params) -> tuple[float, str]:
+    core = build_core({**default_parameters(), **params}, 33.3)
+    out = core.step(0.0, ReelInputs(dr=15.0, dz=28.0, dz_rate=1.0, tension=10.0, departure_angle=0.2))
+    return out.control.reference_length, out.control.reference_model
+
+
+def test_lead_extrapolates_the_height_by_the_inputs_age_with_its_rate():
+    """The reel takes its inputs 0.1 s old: a heave of 1 m/s left the length 49 mm RMSE behind in flight."""
+    assert _first_reference()[0] == pytest.approx(reference_length(15.0, 28.0).length)
+    assert _first_reference(lead=0.1)[0] == pytest.approx(reference_length(15.0, 28.1).length)
+
+
+def test_min_slack_keeps_the_reference_a_chord_plus_slack_where_the_model_has_less():
+    """On the pad (0.75 m out, 1.5 m up) the model's 5 cm of slack is less than the held radial distance's error."""
+    core = build_core({**default_parameters(), 'min_slack': 0.3}, 1.9)
+    out = core.step(0.0, ReelInputs(dr=0.75, dz=1.5, dz_rate=0.0, tension=1.0, departure_angle=0.2))
+    assert reference_length(0.75, 1.5).length < np.hypot(0.75, 1.5) + 0.3
+    assert out.control.reference_length == pytest.approx(np.hypot(0.75, 1.5) + 0.3)
+    assert out.control.reference_model == 'min_slack'
+    far = build_core({**default_parameters(), 'min_slack': 0.3}, 33.3).step(
+        0.0, ReelInputs(dr=15.0, dz=28.0, dz_rate=0.0, tension=10.0, departure_angle=0.2))
+    assert far.control.reference_length == pytest.approx(reference_length(15.0, 28.0).length), 'no effect in flight'
