@@ -228,6 +228,22 @@ def _names_the_damage(line: str) -> bool:
             or 'not an MCAP file' in line)
 
 
+def test_any_flipped_byte_of_a_bag_written_now_is_refused(tmp_path):
+    """With every CRC MCAP has (chunks, data section, summary), no single flipped byte goes unnoticed."""
+    recorded = _as_recorded_now(ORIGINAL, tmp_path / 'recorded')
+    content = recorded.read_bytes()
+    summary_start = int.from_bytes(content[-28:-20], 'little')  # the Footer's first field; its magic follows it
+    data_end = summary_start - 13  # the DataEnd record: opcode, length, data-section CRC
+    rng = np.random.default_rng(0)
+    offsets = [*rng.integers(0, len(content), size=40), *rng.integers(data_end, len(content), size=20)]
+    for offset in offsets:
+        directory = _flipped(tmp_path, recorded, int(offset), f'flipped-{offset}')
+        with pytest.raises(BagError) as refused:
+            read_bag(directory)
+        assert _names_the_damage(str(refused.value)), (offset, str(refused.value))
+        shutil.rmtree(directory)
+
+
 FLIP_SEEDS = range(3)
 """A handful of seeded offsets, each anywhere in the file: chunk data, chunk headers, indexes, summary."""
 

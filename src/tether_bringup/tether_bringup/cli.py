@@ -50,7 +50,7 @@ def _rate(text: str) -> float:
 def _add_network(parser: argparse.ArgumentParser) -> None:
     parser.add_argument('--domain-id', type=_domain, default=None,
                         help='ROS_DOMAIN_ID of the run, 1-232 (default: a private one in 1-100 reserved for the run; '
-                             'one given in 1-100 is reserved too, and refused while another run holds it)')
+                             '0, the domain of every ROS 2 process that sets none, is refused)')
     parser.add_argument('--discovery', choices=('localhost', 'subnet'), default='localhost',
                         help='DDS discovery range: localhost (default) or subnet to span machines')
 

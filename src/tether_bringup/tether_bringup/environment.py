@@ -10,8 +10,6 @@ import domain_coordinator
 
 from tether_bringup.errors import RunError
 
-PRIVATE_DOMAINS = 100
-"""Domains 1..100 are reserved per run (``domain_coordinator``'s range)."""
 DISCOVERY_RANGES = {'localhost': 'LOCALHOST', 'subnet': 'SUBNET'}
 
 
@@ -23,23 +21,19 @@ def reserved_domain(domain_id: int | None) -> Iterator[int]:
     launch_testing and ament_cmake_pytest_isolated use: a TCP port 32768 + id held open
     for as long as the context lasts), so runs, test suites and launch tests started at
     the same time on one machine each get their own domain in 1..100. An explicit
-    ``domain_id`` in that range is reserved the same way (refused while another run holds
-    it); one above it (a scene spanning machines) is used as given.
+    ``domain_id`` (a scene spanning machines) is used as given.
     """
-    if domain_id is not None and domain_id > PRIVATE_DOMAINS:
+    if domain_id is not None:
         yield domain_id
         return
     failure: OSError | None = None
     try:
-        with domain_coordinator.domain_id(None if domain_id is None else lambda: domain_id) as reserved:
+        with domain_coordinator.domain_id() as reserved:
             try:
                 yield reserved
             except OSError as error:  # the allocator would take it for a busy port and retry
                 failure = error
     except RuntimeError:
-        if domain_id is not None:
-            raise RunError(f'ROS domain {domain_id} is held by another run on this machine; give another '
-                           '--domain-id or none') from None
         raise RunError('every private ROS domain (1-100) is held by another run; '
                        'wait for one to end or give --domain-id') from None
     if failure is not None:
