@@ -24,6 +24,10 @@ from pathlib import Path
 
 import pytest
 
+from uav_bridge.mission_report import analyse
+from uav_bridge.mission_report import load_run
+
+from default_mission_checks import check_default_mission
 from tethersim_testing import tethersim
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -147,9 +151,24 @@ def test_the_scene_table_and_the_estimator_table_are_what_their_commands_print(t
     assert result.returncode == 0, result.stderr[-4000:]
 
 
-def test_the_default_mission_and_its_topics_are_what_a_full_run_prints(tmp_path):
-    result = _check(['mission', 'topics'], tmp_path, 900)
+@pytest.fixture(scope='module')
+def default_run(tmp_path_factory):
+    """The docs' check of the mission and topics blocks, from one full run of the default scene (kept in its work
+    directory for the default mission's own checks, default_mission_checks.py).
+    """
+    work = tmp_path_factory.mktemp('docs-default')
+    return _check(['mission', 'topics'], work, 1800), work / 'outdoor_flight'
+
+
+def test_the_default_mission_and_its_topics_are_what_a_full_run_prints(default_run):
+    result, _ = default_run
     assert result.returncode == 0, result.stderr[-4000:]
+
+
+def test_the_default_mission_lands_on_the_pad_without_an_abort_a_trip_or_fouling(default_run):
+    """The README's flagship outcome, asserted from the same run (test_default_mission.py's checks)."""
+    _, run = default_run
+    check_default_mission(analyse(load_run(run / 'bag')))
 
 
 def test_a_changed_figure_in_a_block_is_reported_stale(tmp_path, monkeypatch):
