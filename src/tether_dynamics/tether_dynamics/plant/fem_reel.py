@@ -69,7 +69,9 @@ exactly). The same three rules, with what quadratic elements change:
    that is so (a straight or hanging element; shape, strain field and exit force
    unchanged), and no sudden strain on a coarse, deeply curved element, whose ends can be
    stretched while both Gauss points are slack (exact subdivision there put 2.3 kJ and a
-   7.5 kN snap into a slack 6 m element). Velocities from the velocity field at the same
+   7.5 kN snap into a slack 6 m element). Where one Gauss point is slack, the stretch is held
+   between the two Gauss values instead of extrapolated past the taut one (extrapolated, a
+   split of a 0.889 / 1.000 element put 569 N into a tether carrying 3 N). Velocities from the velocity field at the same
    points, with a uniform correction that restores the momentum exactly.
 3. Merge (below h / 2): the joined element runs through the guide way, the material point
    at its middle on the old shape (same reparametrisation), and its far node, with the
@@ -88,7 +90,9 @@ follows (m + mu L) g to 0.7 %); the energy balance closes to 1.6e-3 (100 m out a
 Time stepping is symplectic Euler with lumped masses (one force evaluation per step); the
 stable step of linear elements is about 0.7 h / c (c = sqrt(EA / mu), the shortest reel
 element h / 4); of quadratic elements it is computed from the highest mode of a short and
-two full elements (about 0.28 h / c without damping), checked at construction.
+two full elements (about 0.28 h / c without damping). The plant accepts 0.9 of that estimate
+where Kelvin-Voigt damping damps the highest mode, 0.5 without (:func:`accepted_step`), checked
+at construction; an energy-balance watchdog stops a run that diverges anyway (:meth:`FemTether._watch`).
 """
 
 from __future__ import annotations
