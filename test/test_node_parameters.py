@@ -60,8 +60,8 @@ BAD = [
      "platform: error: Trying to set parameter 'use_sim_time' to '1' of type 'INTEGER', expecting type 'BOOL': "
      'use_sim_time'),
     ('plant step its elements cannot take', PLANT, ['fidelity:=linear', 'integration_step:=0.01'],
-     "plant: error: at the reel's full length (100 m): dt 0.01 s is above the stable step 0.00461 s of elements of "
-     '5 m (EA 20000 N, mu 0.042 kg/m); reduce dt or lengthen the elements'),
+     "plant: error: at the reel's full length (100 m): dt 0.01 s is above the stable step 0.00256 s of elements of "
+     '5 m (EA 20000 N, mu 0.042 kg/m, damping ratio 0); reduce dt or lengthen the elements'),
     ('builtin UAV IMU rate off its ticks', BUILTIN_UAV, ['imu_rate:=30.0'],
      'builtin_uav: error: parameter imu_rate: 30 Hz is not rate 100 Hz divided by a whole number (its messages '
      'go out at ticks)'),
