@@ -31,7 +31,8 @@ def _peaks(cfg, duration: float) -> tuple[float, float]:
     return uav, inside
 
 
-@pytest.mark.parametrize('fidelity, n, damping', [('linear', 40, 0.0), ('linear', 40, 1.0), ('quadratic', 20, 0.0)])
+@pytest.mark.parametrize('fidelity, n, damping', [('linear', 40, 0.0), ('linear', 40, 1.0), ('quadratic', 20, 0.0),
+                                                   ('quadratic', 20, 1.0)])
 def test_the_accepted_step_is_stable_on_the_hard_case(fidelity: str, n: int, damping: float) -> None:
     """At the step the plant accepts, the run finishes under the watchdog, and its peak tension
     is the one at 0.3 of the estimate within what the undamped tether's snaps scatter (a blow-up
@@ -45,7 +46,7 @@ def test_the_accepted_step_is_stable_on_the_hard_case(fidelity: str, n: int, dam
     assert at_limit['ended'] == 'ok' and small['ended'] == 'ok'
     assert at_limit['residual_share'] < 0.2
     assert at_limit['peak_uav_N'] < 2.0 * small['peak_uav_N']
-    if damping > 0.0:
+    if damping > 0.0 and fidelity == 'linear':   # damped linear elements converge in the step
         assert at_limit['peak_uav_N'] == pytest.approx(small['peak_uav_N'], rel=0.02)
 
 

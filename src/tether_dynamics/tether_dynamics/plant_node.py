@@ -58,6 +58,7 @@ from tether_common.rotation import quaternion_rotation
 from tether_common.geometry_fill import fill_xyz
 from tether_dynamics.plant import PlantConfig
 from tether_dynamics.plant import PlantConfigError
+from tether_dynamics.plant import PlantDivergenceError
 from tether_dynamics.plant import PlantInputs
 from tether_dynamics.plant import PlantOutputs
 from tether_dynamics.plant import PlantStepError
@@ -256,7 +257,7 @@ class PlantNode(Node):
             self._start(inputs)
         try:
             out = self.plant.step(t, inputs)
-        except (PlantStepError, ValueError) as error:
+        except (PlantStepError, PlantDivergenceError, ValueError) as error:
             self.get_logger().error(f'plant step at t = {t:.3f} s failed: {error}')
             raise SystemExit(1) from None
         self.deployed = out.deployed_length

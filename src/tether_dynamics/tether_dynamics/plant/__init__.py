@@ -54,8 +54,9 @@ Contract:
 """
 
 from tether_dynamics.plant.config import PlantConfig, PlantConfigError, ReelConfig, UavConfig
+from tether_dynamics.plant.fem_reel import PlantDivergenceError
 from tether_dynamics.plant.io import PlantInputs, PlantOutputs
 from tether_dynamics.plant.plant import PlantStepError, TetherPlant
 
-__all__ = ['PlantConfig', 'PlantConfigError', 'PlantInputs', 'PlantOutputs', 'PlantStepError', 'ReelConfig',
-           'TetherPlant', 'UavConfig']
+__all__ = ['PlantConfig', 'PlantConfigError', 'PlantDivergenceError', 'PlantInputs', 'PlantOutputs', 'PlantStepError',
+           'ReelConfig', 'TetherPlant', 'UavConfig']
