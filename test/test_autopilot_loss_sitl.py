@@ -1,8 +1,9 @@
 """Losing the real ArduCopter SITL mid-hover is a mission event (issue 35, deliverable 4).
 
 `tethersim run` of ``outdoor_flight_sitl`` with the station lowered to 10 m and SITL run by the
-test (so the test can kill, restart and reboot it while the run goes on), SITL at 10x and the
-graph at 5x (half, so the flight fits even when SITL falls behind its speed-up), in the test's
+test (so the test can kill, restart and reboot it while the run goes on), SITL at 4x and the
+graph at 2x (half, so the flight fits even when SITL falls behind its speed-up; at 10x and 5x
+a busy machine starved SITL into 5-10 s gaps in its poses before the event), in the test's
 ROS domain. Once the UAV has kept station for 15 s of sim time (``/uav/pose`` stamps since it
 first came within 0.5 m of the station: the report's window opens 5 s after that), the test
 takes the autopilot away:
@@ -105,14 +106,14 @@ def _reboot(sitl: SitlProcess) -> None:
 
 @pytest.mark.parametrize('event', ['kill', 'restart', 'reboot'])
 def test_the_mission_ends_with_its_reason_when_arducopter_is_lost_mid_hover(tmp_path, event, ros_context):
-    sitl = SitlProcess(tmp_path / 'sitl', speedup=10.0)
+    sitl = SitlProcess(tmp_path / 'sitl', speedup=4.0)
     scene = installed_scene('outdoor_flight_sitl')
     del scene['nodes']['sitl']
     scene['nodes']['mavlink_bridge']['parameters']['url'] = sitl.url()
     scene['nodes']['mission']['parameters'].update(altitude=10.0, radial=5.0, land_time=0.0)
     out = tmp_path / 'run'
     sitl.start()
-    run = start_tethersim('run', write_scene(scene, tmp_path / 'scene.yaml'), '--out', str(out), '--rate', '5',
+    run = start_tethersim('run', write_scene(scene, tmp_path / 'scene.yaml'), '--out', str(out), '--rate', '2',
                           '--duration', '120', '--domain-id', os.environ['ROS_DOMAIN_ID'])
     watch = StationWatch(ros_context)
     try:
