@@ -200,7 +200,7 @@ def _row(campaign: Campaign, index: int, out: Path, attempts: int, result: dict 
     values = campaign.values(index)
     row = {'index': index, 'run': name, 'status': 'ok' if reason is None else 'failed', 'attempts': attempts,
            'reason': reason, 'node': None, 'node_id': None, 'hostname': None, 'task_time': None,
-           'command': f'tethersim run {out / "runs" / name / campaign.scene_path.name} --out runs/rerun-{name}'}
+           'command': f'tethersim run {out.resolve() / "runs" / name / campaign.scene_path.name} --out runs/rerun-{name}'}
     if result is not None:
         row.update(node=nodes.get(result['node_id'], result['node_id']), node_id=result['node_id'],
                    hostname=result['hostname'], task_time=result['wall_time'])

@@ -4,13 +4,16 @@ landing starts (its /mission/state phase ``return`` at the end of the mission, `
 
 from __future__ import annotations
 
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
 import pytest
+import yaml
 
 from uav_bridge.mission_report import Run
 from uav_bridge.mission_report import analyse
+from uav_bridge.mission_report import figures
 from uav_bridge.mission_report import summary_lines
 
 STATION = (15.0, 0.0, 30.0)
@@ -63,3 +66,30 @@ def test_without_a_landing_the_whole_run_counts():
     assert r['landing'] == np.inf and r['window'] == pytest.approx((7.0, 79.99))
     assert r['fouling_events'] == 1 and r['fouled_time'] == pytest.approx(10.0) and r['trips'] == 3
     assert 'fouling: 1 events' in '\n'.join(summary_lines(r))
+
+
+@pytest.mark.parametrize('returns', [True, False], ids=['return, land', 'land on a trip'])
+def test_the_figures_as_data(returns):
+    f = figures(analyse(_landing_run(returns)))
+    assert (f['outcome'], f['abort_reason']) == (('incomplete', None) if returns else ('aborted', 'reel trip: fouling'))
+    assert f['success'] is False
+    assert f['hold_time'] == pytest.approx(53.0) and f['landing_time'] == LANDING
+    assert (f['peak_tension_reel'], f['peak_tension_uav']) == (90.0, 85.0)
+    assert (f['reel_trips'], f['reel_trips_flying']) == (3, 1)
+    assert f['fouled_time'] == 0.0 and f['landing_fouled_time'] == pytest.approx(10.0)
+    assert f['least_clearance_deck'] == pytest.approx(2.3) and f['least_clearance_sea'] == 3.0
+    assert f['landing_peak_tension_reel'] == 90.0
+    assert f['altitude_peak_to_peak'] == pytest.approx(0.1, abs=1e-3)
+    assert f['dz_rmse'] is None and f['length_rmse'] is None and f['shape_mean'] is None
+
+
+@pytest.mark.parametrize('pad, outcome', [((15.0, 0.5), 'landed_on_pad'), ((0.75, 0.0), 'landed'), (None, 'landed')])
+def test_the_outcome_of_a_landing_is_on_the_pad_only_within_its_radius(tmp_path, pad, outcome):
+    (tmp_path / 'params').mkdir()
+    if pad is not None:
+        for node, parameters in (('mission', {'pad': list(pad)}), ('uav', {'ground': 'pad', 'pad_radius': 1.0})):
+            (tmp_path / 'params' / f'{node}.yaml').write_text(yaml.safe_dump({'/**': {'ros__parameters': parameters}}))
+    run = _landing_run()
+    run = replace(run, path=tmp_path / 'bag', phases=run.phases + [(79.0, 'landed', 'end of the mission', STATION)])
+    f = figures(analyse(run))
+    assert f['outcome'] == outcome and f['success'] is (outcome == 'landed_on_pad') and f['abort_reason'] is None
