@@ -23,6 +23,7 @@ import logging
 import os
 import secrets
 import shutil
+import socket
 import sys
 import tarfile
 import tempfile
@@ -240,7 +241,7 @@ def _run_missing(campaign: Campaign, options: SweepOptions, out: Path, token: st
         if cpus < campaign.cpus:
             raise SweepError(f'the Ray cluster has {cpus:g} CPUs; a run of {campaign.path} reserves '
                              f'{campaign.cpus:g} (cpus)')
-        progress.note(f'sweep {campaign.name}: {len(todo)} runs of {campaign.scene_path.stem}, up to {workers} at a '
+        progress.note(f'sweep {campaign.name}: {len(todo)} runs of {campaign.scene_path.stem}, up to {min(workers, len(todo))} at a '
                       f'time on {len(ray.nodes())} Ray node(s) with {cpus:g} CPUs, {campaign.cpus:g} CPU(s) '
                       f'each, {retries} retries')
         remote = ray.remote(run_scene).options(num_cpus=campaign.cpus, max_retries=0)
@@ -308,9 +309,24 @@ def _run_missing(campaign: Campaign, options: SweepOptions, out: Path, token: st
     return interrupted
 
 
+def check_address(address: str, timeout: float = 5.0) -> None:
+    """Raise :class:`SweepError` if nothing listens at a ``HOST:PORT`` address (Ray would retry for minutes);
+    other forms (``auto``, ``ray://...``) are left to Ray.
+    """
+    host, colon, port = address.rpartition(':')
+    if not colon or not port.isdigit() or '/' in address:
+        return
+    try:
+        socket.create_connection((host or 'localhost', int(port)), timeout=timeout).close()
+    except OSError as error:
+        raise SweepError(f'cannot connect to the Ray cluster at {address}: {error.strerror or error}') from None
+
+
 def sweep(campaign: Campaign, options: SweepOptions) -> int:
     """Run the campaign's missing runs; return 0 if every run succeeded, 1 if one failed, 130 on Ctrl-C."""
     out = options.out
+    if options.address is not None:
+        check_address(options.address)
     token = _prepare(campaign, options)
     retries = campaign.retries if options.retries is None else options.retries
     done = {row['index'] for row in read_rows(out)} if (out / 'rows').is_dir() else set()
