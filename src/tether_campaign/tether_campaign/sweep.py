@@ -124,7 +124,7 @@ def ray_cluster(address: str | None) -> Iterator[None]:
             try:
                 ray.init(address='local', num_cpus=os.cpu_count(), include_dashboard=False, log_to_driver=False,
                          object_store_memory=OBJECT_STORE_BYTES, _temp_dir=temp_dir, logging_level=logging.WARNING)
-            except (RuntimeError, ValueError, OSError) as error:
+            except Exception as error:  # Ray raises a bare Exception when its raylet does not register in 30 s
                 raise SweepError(f'cannot start a local Ray instance: {_first_line(error)}') from None
         else:
             try:
