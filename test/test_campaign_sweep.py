@@ -122,3 +122,27 @@ def test_ctrl_c_stops_every_run_and_leaves_no_process_and_resume_runs_only_what_
     assert json.loads(first)['platform.seed'] == rows[0]['platform.seed']
     assert run_figures(out / 'runs' / 'run-0001')['sim_time'] == 4.0
 
+
+
+def test_a_run_whose_worker_is_killed_is_tried_again_and_its_processes_end(tmp_path):
+    spec = write_spec(tmp_path / 'killed.yaml', description='one platform run at real time', scene='platform',
+                      set={'duration': 4.0, 'rate': 1.0}, retries=1)
+    out = tmp_path / 'campaign'
+    sweep = start_tethersim('sweep', str(spec), '--out', str(out))
+    watch = ProcessWatch(sweep.pid)
+    run_dir = out / 'runs' / 'run-0000'
+    deadline = time.monotonic() + 300
+    while not (run_dir / 'graph.yaml').exists():  # the run is simulating
+        assert sweep.poll() is None, sweep.communicate()
+        assert time.monotonic() < deadline, 'the run did not start within 300 s'
+        time.sleep(0.2)
+    bringup = next(p for p in processes_of(run_dir) if 'tether_bringup' in p.cmdline() and 'run' in p.cmdline())
+    worker = bringup.parent()
+    worker.kill()
+    stdout, stderr = sweep.communicate(timeout=600)
+    assert sweep.returncode == 0, stderr
+    assert 'run-0000 failed (attempt 1 of 2): WorkerCrashedError' in stderr
+    row, = pq.read_table(out / 'results.parquet').to_pylist()
+    assert (row['status'], row['attempts'], row['exit_status'], row['sim_time']) == ('ok', 2, 0, 4.0)
+    assert not bringup.is_running()
+    assert watch.left_behind() == []

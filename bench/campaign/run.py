@@ -6,9 +6,9 @@ first as a campaign (``tethersim sweep``, a local Ray instance with the machine'
 then each run's scene file one after another (``tethersim run``). Per side:
 
 * runs per hour: runs / wall time, the campaign's including Ray's start and stop;
-* CPU utilisation: the CPU seconds of the side's whole process tree (this process's
-  ``RUSAGE_CHILDREN`` over the side: the sweep, Ray's processes and workers, every run's
-  bringup, recorder and node group) over wall time x cores; and the machine's busy share over
+* CPU utilisation: the CPU seconds of the side's whole process tree (every process descended
+  from the side's command, sampled from ``/proc``: the sweep, Ray's processes and workers, every
+  run's bringup, recorder and node group) over wall time x cores; and the machine's busy share over
   the same time (``/proc/stat``: every process on the machine, other people's too);
 * the runs' CPU utilisation: their ``figures.json`` ``cpu_time`` (bringup and nodes, start-up
   included) over wall time x cores, which Ray's own processes are not in;
@@ -29,12 +29,13 @@ from __future__ import annotations
 import argparse
 import json
 import os
-import resource
 import subprocess
 import sys
+import threading
 import time
 from pathlib import Path
 
+import psutil
 import pyarrow.parquet as pq
 import yaml
 
@@ -43,19 +44,52 @@ from tether_bringup.machine_load import core_times
 TIMING = ('wall_time', 'realtime_factor', 'cpu_per_sim_s', 'cpu_time')
 
 
-def _children_cpu() -> float:
-    usage = resource.getrusage(resource.RUSAGE_CHILDREN)
-    return usage.ru_utime + usage.ru_stime
+class TreeCpu:
+    """CPU seconds of every process descended from ``root``, each read from ``/proc`` every 0.1 s until it ends.
+
+    Each process's own user + system time at its last sample (not its children's, which are
+    processes of the tree too); a process's last 0.1 s before it ends may be missed.
+    """
+
+    def __init__(self, root: int) -> None:
+        self._root = psutil.Process(root)
+        self._seen: dict[tuple[int, float], float] = {}
+        self._stop = threading.Event()
+        self._thread = threading.Thread(target=self._sample, daemon=True)
+        self._thread.start()
+
+    def _sample(self) -> None:
+        while not self._stop.is_set():
+            try:
+                processes = [self._root, *self._root.children(recursive=True)]
+            except psutil.Error:
+                return
+            for process in processes:
+                try:
+                    times = process.cpu_times()
+                    self._seen[(process.pid, process.create_time())] = times.user + times.system
+                except psutil.Error:
+                    pass
+            time.sleep(0.1)
+
+    def total(self) -> float:
+        """Stop sampling; the tree's CPU seconds."""
+        self._stop.set()
+        self._thread.join()
+        return sum(self._seen.values())
 
 
 def _measure(command: list[str]) -> tuple[float, float, float, subprocess.CompletedProcess]:
     """Run ``command``; return its wall time, its process tree's CPU s, the machine's busy core-s, the result."""
-    cpu, machine, start = _children_cpu(), core_times(), time.monotonic()
-    result = subprocess.run(command, capture_output=True, text=True)
+    machine, start = core_times(), time.monotonic()
+    process = subprocess.Popen(command, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    tree = TreeCpu(process.pid)
+    stdout, stderr = process.communicate()
     wall = time.monotonic() - start
+    cpu = tree.total()
     end = core_times()
     busy = end.busy - machine.busy if end is not None and machine is not None else float('nan')
-    return wall, _children_cpu() - cpu, busy, result
+    return wall, cpu, busy, subprocess.CompletedProcess(command, process.returncode, stdout, stderr)
 
 
 def _overhead(wall: float, figures: dict) -> float:
@@ -121,7 +155,7 @@ def main() -> int:
         f'campaign / loop: {speedup:.2f}x the runs per hour (goal >= 1.7x: {"met" if speedup >= 1.7 else "not met"}); '
         f'the campaign\'s process tree kept {cpu_c / (wall_c * cores):.0%} of the cores busy (goal >= 90 %: '
         f'{"met" if cpu_c / (wall_c * cores) >= 0.9 else "not met"})',
-        'CPU util.: the side\'s own process tree (what it reaped); runs CPU: the runs\' figures.json cpu_time '
+        'CPU util.: the side\'s own process tree (sampled); runs CPU: the runs\' figures.json cpu_time '
         '(each run\'s bringup and nodes, start-up included); machine busy: every process on the machine (other people\'s too); '
         'start-up s/run: a run\'s wall time outside its simulation (start, shutdown, reports), the campaign\'s '
         'measured in its Ray task',

@@ -18,6 +18,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 from tether_bringup.bag_reader import read_bag  # noqa: E402
 from tether_bringup.errors import BagError  # noqa: E402
+from tether_common.report_figures import ReportLines  # noqa: E402
 
 from relpos_estimator.messages import stamp_ns  # noqa: E402
 
@@ -54,12 +55,14 @@ def errors(data: dict) -> dict[str, np.ndarray]:
             'foh': np.array([data['foh'][t] for t in stamps]) - truth}
 
 
-def estimator_report(bag_path: str, out_dir: str) -> list[str]:
-    """Filter and FOH errors vs. truth, faults and rejections; writes estimator.png; returns summary lines."""
+def estimator_report(bag_path: str, out_dir: str) -> ReportLines:
+    """Filter and FOH errors vs. truth, faults and rejections; writes estimator.png; returns summary lines, and as
+    figures (data) the filter's and the FOH's Δz RMSE and largest error (m), faults injected and fixes rejected.
+    """
     data = read_run(Path(bag_path))
     e = errors(data)
     if e['t'].size == 0:
-        return ['estimator: no initialized estimate with truth in the bag']
+        return ReportLines(['estimator: no initialized estimate with truth in the bag'], {})
     lines = [f'estimator vs truth over {e["t"][-1] - e["t"][0]:.1f} s ({e["t"].size} ticks):']
     for name in ('filter', 'foh'):
         err = e[name]
@@ -85,4 +88,7 @@ def estimator_report(bag_path: str, out_dir: str) -> list[str]:
     fig.tight_layout()
     fig.savefig(Path(out_dir) / 'estimator.png', dpi=110)
     plt.close(fig)
-    return lines
+    figures = {f'{name}_dz_{kind}': value for name in ('filter', 'foh') for kind, value in
+               (('rmse', np.sqrt(np.mean(e[name] ** 2))), ('max_error', np.max(np.abs(e[name]))))}
+    return ReportLines(lines, {'dz_rmse': figures['filter_dz_rmse'], **figures,
+                               'faults_injected': sum(faults.values()), 'fixes_rejected': sum(reasons.values())})

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import socket
+
 import pytest
 import yaml
 
@@ -89,4 +91,15 @@ def test_a_bad_spec_is_refused_in_one_line_with_status_2_before_anything_starts(
     assert main(['sweep', str(spec), '--out', str(out)]) == 2
     err = capsys.readouterr().err
     assert err.count('\n') == 1 and err.startswith('tethersim: error: ') and message in err, err
+    assert not out.exists()
+
+
+def test_an_address_where_no_cluster_listens_is_one_line_with_status_2_before_anything_starts(tmp_path, capsys):
+    with socket.socket() as sock:
+        sock.bind(('127.0.0.1', 0))
+        port = sock.getsockname()[1]
+    out = tmp_path / 'campaign'
+    assert main(['sweep', str(_write(tmp_path, SPEC)), '--out', str(out), '--address', f'127.0.0.1:{port}']) == 2
+    err = capsys.readouterr().err
+    assert err == f'tethersim: error: cannot connect to the Ray cluster at 127.0.0.1:{port}: Connection refused\n'
     assert not out.exists()

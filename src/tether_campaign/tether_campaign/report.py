@@ -170,8 +170,8 @@ def report(directory: Path, out: Path, by: str | None = None, count: int = 5) ->
     if worst:
         lines.append('worst runs' + (f' (failed, not successful, then highest {by})' if by else '') + ':')
         for row, why in worst:
-            values = ', '.join(f'{factor} {row.get(factor)}' for factor in varied)
-            lines.append(f'  {row["run"]}: {why}; {values}')
+            keys = ', '.join(f'{factor} {row.get(factor)}' for factor in varied)
+            lines.append(f'  {row["run"]}: {why}; {keys}')
             lines.append(f'    rerun alone: {row["command"]}')
     lines.append(f'plots ({len(plots)}, histogram and ECDF of each figure) in {out}')
     return '\n'.join(lines)

@@ -23,6 +23,7 @@ import logging
 import os
 import secrets
 import shutil
+import socket
 import sys
 import tarfile
 import tempfile
@@ -120,15 +121,16 @@ def ray_cluster(address: str | None) -> Iterator[None]:
     try:
         if address is None:
             temp_dir = tempfile.mkdtemp(prefix='tethersim-ray-')
-            ray.init(address='local', num_cpus=os.cpu_count(), include_dashboard=False, log_to_driver=False,
-                     object_store_memory=OBJECT_STORE_BYTES, _temp_dir=temp_dir, logging_level=logging.WARNING)
+            try:
+                ray.init(address='local', num_cpus=os.cpu_count(), include_dashboard=False, log_to_driver=False,
+                         object_store_memory=OBJECT_STORE_BYTES, _temp_dir=temp_dir, logging_level=logging.WARNING)
+            except Exception as error:  # Ray raises a bare Exception when its raylet does not register in 30 s
+                raise SweepError(f'cannot start a local Ray instance: {_first_line(error)}') from None
         else:
             try:
                 ray.init(address=address, log_to_driver=False, logging_level=logging.WARNING)
             except (ConnectionError, ValueError, RuntimeError) as error:
-                raise SweepError(f'cannot connect to the Ray cluster at {address}: '
-                                 f'{str(error).strip().splitlines()[0] if str(error).strip() else type(error).__name__}'
-                                 ) from None
+                raise SweepError(f'cannot connect to the Ray cluster at {address}: {_first_line(error)}') from None
         yield
     finally:
         if ray.is_initialized():
@@ -140,6 +142,11 @@ def ray_cluster(address: str | None) -> Iterator[None]:
                 os.environ.pop(name, None)
             else:
                 os.environ[name] = value
+
+
+def _first_line(error: Exception) -> str:
+    text = str(error).strip()
+    return text.splitlines()[0] if text else type(error).__name__
 
 
 class Progress:
@@ -200,7 +207,7 @@ def _row(campaign: Campaign, index: int, out: Path, attempts: int, result: dict 
     values = campaign.values(index)
     row = {'index': index, 'run': name, 'status': 'ok' if reason is None else 'failed', 'attempts': attempts,
            'reason': reason, 'node': None, 'node_id': None, 'hostname': None, 'task_time': None,
-           'command': f'tethersim run {out / "runs" / name / campaign.scene_path.name} --out runs/rerun-{name}'}
+           'command': f'tethersim run {out.resolve() / "runs" / name / campaign.scene_path.name} --out runs/rerun-{name}'}
     if result is not None:
         row.update(node=nodes.get(result['node_id'], result['node_id']), node_id=result['node_id'],
                    hostname=result['hostname'], task_time=result['wall_time'])
@@ -220,9 +227,106 @@ def _unpack(archive: bytes, run_dir: Path) -> None:
         tar.extractall(run_dir, filter='data')
 
 
+def _run_missing(campaign: Campaign, options: SweepOptions, out: Path, token: str, retries: int, todo: deque,
+                 progress: Progress) -> bool:
+    """Run the runs in ``todo`` on Ray, recording each as it finishes; return whether Ctrl-C stopped them."""
+    interrupted = False
+    with ray_cluster(options.address):
+        import ray  # after ray_cluster set the environment it reads on import
+        from ray.exceptions import RayError
+        from ray.exceptions import TaskCancelledError
+
+        cpus = ray.cluster_resources().get('CPU', 0.0)
+        workers = options.workers or max(1, int(cpus // campaign.cpus))
+        if cpus < campaign.cpus:
+            raise SweepError(f'the Ray cluster has {cpus:g} CPUs; a run of {campaign.path} reserves '
+                             f'{campaign.cpus:g} (cpus)')
+        progress.note(f'sweep {campaign.name}: {len(todo)} runs of {campaign.scene_path.stem}, up to {min(workers, len(todo))} at a '
+                      f'time on {len(ray.nodes())} Ray node(s) with {cpus:g} CPUs, {campaign.cpus:g} CPU(s) '
+                      f'each, {retries} retries')
+        remote = ray.remote(run_scene).options(num_cpus=campaign.cpus, max_retries=0)
+        attempts = dict.fromkeys(todo, 0)
+        pending: dict = {}
+        nodes = _node_names()
+
+        def finish(index: int, result: dict | None, reason: str | None) -> None:
+            if result is not None and result.get('archive'):
+                _unpack(result['archive'], out / 'runs' / campaign.run_name(index))
+            if result is not None and result['node_id'] not in nodes:
+                nodes.update(_node_names())
+            write_row(out, _row(campaign, index, out, attempts[index], result, reason, nodes))
+            progress.done += 1
+            progress.failed += reason is not None
+            write_tables(out)
+
+        def collect(ref) -> tuple[dict | None, str | None]:
+            try:
+                result = ray.get(ref)
+            except RayError as error:
+                text = str(error).strip().splitlines()
+                return None, f'{type(error).__name__}: {text[-1] if text else ""}'.strip()
+            return result, result['reason']
+
+        try:
+            while todo or pending:
+                while todo and len(pending) < workers:
+                    index = todo.popleft()
+                    attempts[index] += 1
+                    pending[remote.remote(_request(campaign, index, out, token, options.keep))] = index
+                ready, _ = ray.wait(list(pending), num_returns=1, timeout=1.0)
+                for ref in ready:
+                    index = pending.pop(ref)
+                    result, reason = collect(ref)
+                    if reason is not None and attempts[index] <= retries:
+                        progress.note(f'{campaign.run_name(index)} failed (attempt {attempts[index]} of '
+                                      f'{retries + 1}): {reason}; trying again')
+                        todo.appendleft(index)
+                        continue
+                    if reason is not None:
+                        progress.note(f'{campaign.run_name(index)} failed after {attempts[index]} attempt(s): '
+                                      f'{reason}')
+                    finish(index, result, reason)
+                    progress.show(len(pending), force=True)
+                progress.show(len(pending))
+        except KeyboardInterrupt:
+            interrupted = True
+            progress.note(f'sweep {campaign.name}: interrupted; stopping {len(pending)} run(s) under way '
+                          '(Ctrl-C again to kill them)')
+            for ref in pending:
+                ray.cancel(ref)
+            try:
+                ready, _ = ray.wait(list(pending), num_returns=len(pending), timeout=STOP_TIMEOUT + 30.0)
+            except KeyboardInterrupt:
+                for ref in pending:
+                    ray.cancel(ref, force=True)
+                ready = []
+            for ref in ready:
+                index = pending.pop(ref)
+                with contextlib.suppress(TaskCancelledError, RayError):
+                    result = ray.get(ref)
+                    if result['reason'] is None:
+                        finish(index, result, None)
+    return interrupted
+
+
+def check_address(address: str, timeout: float = 5.0) -> None:
+    """Raise :class:`SweepError` if nothing listens at a ``HOST:PORT`` address (Ray would retry for minutes);
+    other forms (``auto``, ``ray://...``) are left to Ray.
+    """
+    host, colon, port = address.rpartition(':')
+    if not colon or not port.isdigit() or '/' in address:
+        return
+    try:
+        socket.create_connection((host or 'localhost', int(port)), timeout=timeout).close()
+    except OSError as error:
+        raise SweepError(f'cannot connect to the Ray cluster at {address}: {error.strerror or error}') from None
+
+
 def sweep(campaign: Campaign, options: SweepOptions) -> int:
     """Run the campaign's missing runs; return 0 if every run succeeded, 1 if one failed, 130 on Ctrl-C."""
     out = options.out
+    if options.address is not None:
+        check_address(options.address)
     token = _prepare(campaign, options)
     retries = campaign.retries if options.retries is None else options.retries
     done = {row['index'] for row in read_rows(out)} if (out / 'rows').is_dir() else set()
@@ -233,82 +337,11 @@ def sweep(campaign: Campaign, options: SweepOptions) -> int:
         progress.note(f'sweep {campaign.name}: {len(done)} of {campaign.size} runs already recorded in {out}; '
                       f'running the {len(todo)} missing')
     interrupted = False
-    if todo:
-        with ray_cluster(options.address):
-            import ray  # after ray_cluster set the environment it reads on import
-            from ray.exceptions import RayError
-            from ray.exceptions import TaskCancelledError
-
-            cpus = ray.cluster_resources().get('CPU', 0.0)
-            workers = options.workers or max(1, int(cpus // campaign.cpus))
-            if cpus < campaign.cpus:
-                raise SweepError(f'the Ray cluster has {cpus:g} CPUs; a run of {campaign.path} reserves '
-                                 f'{campaign.cpus:g} (cpus)')
-            progress.note(f'sweep {campaign.name}: {len(todo)} runs of {campaign.scene_path.stem}, up to {workers} at a '
-                          f'time on {len(ray.nodes())} Ray node(s) with {cpus:g} CPUs, {campaign.cpus:g} CPU(s) '
-                          f'each, {retries} retries')
-            remote = ray.remote(run_scene).options(num_cpus=campaign.cpus, max_retries=0)
-            attempts = dict.fromkeys(todo, 0)
-            pending: dict = {}
-            nodes = _node_names()
-
-            def finish(index: int, result: dict | None, reason: str | None) -> None:
-                if result is not None and result.get('archive'):
-                    _unpack(result['archive'], out / 'runs' / campaign.run_name(index))
-                if result is not None and result['node_id'] not in nodes:
-                    nodes.update(_node_names())
-                write_row(out, _row(campaign, index, out, attempts[index], result, reason, nodes))
-                progress.done += 1
-                progress.failed += reason is not None
-                write_tables(out)
-
-            def collect(ref) -> tuple[dict | None, str | None]:
-                try:
-                    result = ray.get(ref)
-                except RayError as error:
-                    text = str(error).strip().splitlines()
-                    return None, f'{type(error).__name__}: {text[-1] if text else ""}'.strip()
-                return result, result['reason']
-
-            try:
-                while todo or pending:
-                    while todo and len(pending) < workers:
-                        index = todo.popleft()
-                        attempts[index] += 1
-                        pending[remote.remote(_request(campaign, index, out, token, options.keep))] = index
-                    ready, _ = ray.wait(list(pending), num_returns=1, timeout=1.0)
-                    for ref in ready:
-                        index = pending.pop(ref)
-                        result, reason = collect(ref)
-                        if reason is not None and attempts[index] <= retries:
-                            progress.note(f'{campaign.run_name(index)} failed (attempt {attempts[index]} of '
-                                          f'{retries + 1}): {reason}; trying again')
-                            todo.appendleft(index)
-                            continue
-                        if reason is not None:
-                            progress.note(f'{campaign.run_name(index)} failed after {attempts[index]} attempt(s): '
-                                          f'{reason}')
-                        finish(index, result, reason)
-                        progress.show(len(pending), force=True)
-                    progress.show(len(pending))
-            except KeyboardInterrupt:
-                interrupted = True
-                progress.note(f'sweep {campaign.name}: interrupted; stopping {len(pending)} run(s) under way '
-                              '(Ctrl-C again to kill them)')
-                for ref in pending:
-                    ray.cancel(ref)
-                try:
-                    ready, _ = ray.wait(list(pending), num_returns=len(pending), timeout=STOP_TIMEOUT + 30.0)
-                except KeyboardInterrupt:
-                    for ref in pending:
-                        ray.cancel(ref, force=True)
-                    ready = []
-                for ref in ready:
-                    index = pending.pop(ref)
-                    with contextlib.suppress(TaskCancelledError, RayError):
-                        result = ray.get(ref)
-                        if result['reason'] is None:
-                            finish(index, result, None)
+    try:
+        if todo:
+            interrupted = _run_missing(campaign, options, out, token, retries, todo, progress)
+    except KeyboardInterrupt:  # before the runs started (Ray starting)
+        interrupted = True
     if progress.interactive:
         print(file=sys.stderr)
     rows = write_tables(out)

@@ -14,6 +14,7 @@ files travel back with the result as a tar archive, and the directory is removed
 
 from __future__ import annotations
 
+import contextlib
 import ctypes
 import io
 import json
@@ -111,6 +112,32 @@ def prune(run_dir: Path, scene_name: str) -> None:
             path.unlink()
 
 
+def _processes_of(run_dir: Path) -> list[int]:
+    """The processes on this node whose command line names ``run_dir`` (a run's bringup and nodes)."""
+    marker = str(run_dir).encode()
+    found = []
+    for entry in Path('/proc').iterdir():
+        if entry.name.isdigit() and int(entry.name) != os.getpid():
+            try:
+                if marker in (entry / 'cmdline').read_bytes():
+                    found.append(int(entry.name))
+            except OSError:
+                pass
+    return found
+
+
+def _wait_for_earlier_attempt(run_dir: Path) -> None:
+    """Wait until an earlier attempt's processes here have ended (a worker killed under a run: its bringup,
+    sent SIGTERM, is still finalizing the bag into ``run_dir``); kill them after STOP_TIMEOUT.
+    """
+    deadline = time.monotonic() + STOP_TIMEOUT
+    while (left := _processes_of(run_dir)) and time.monotonic() < deadline:
+        time.sleep(0.2)
+    for pid in left:
+        with contextlib.suppress(ProcessLookupError):
+            os.kill(pid, signal.SIGKILL)
+
+
 def run_scene(request: dict) -> dict:
     """Run one campaign run; return its result.
 
@@ -128,8 +155,9 @@ def run_scene(request: dict) -> dict:
     shared = token_file.is_file() and token_file.read_text().strip() == request['token']
     temporary = None if shared else Path(tempfile.mkdtemp(prefix=f'tethersim-{request["run_name"]}-'))
     run_dir = campaign_dir / 'runs' / request['run_name'] if shared else temporary / request['run_name']
-    if run_dir.exists():
-        shutil.rmtree(run_dir)  # an earlier attempt's (a retry, or a run interrupted before --resume)
+    if run_dir.exists():  # an earlier attempt's (a retry, or a run interrupted before --resume)
+        _wait_for_earlier_attempt(run_dir)
+        shutil.rmtree(run_dir)
     run_dir.mkdir(parents=True)
     scene_file = run_dir / request['scene_name']
     scene_file.write_text(request['scene_text'])

@@ -4,6 +4,7 @@ landing starts (its /mission/state phase ``return`` at the end of the mission, `
 
 from __future__ import annotations
 
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
@@ -11,6 +12,7 @@ import pytest
 
 from uav_bridge.mission_report import Run
 from uav_bridge.mission_report import analyse
+from uav_bridge.mission_report import figures
 from uav_bridge.mission_report import summary_lines
 
 STATION = (15.0, 0.0, 30.0)
@@ -91,3 +93,30 @@ def test_a_lost_autopilot_is_listed_and_ends_the_hold_statistics_without_interpo
 def test_a_run_without_outages_says_so():
     r = analyse(_landing_run())
     assert 'autopilot: no link loss, no reboot, no /uav/pose gap over 3 s' in '\n'.join(summary_lines(r))
+
+
+@pytest.mark.parametrize('returns', [True, False], ids=['return, land', 'land on a trip'])
+def test_the_figures_as_data(returns):
+    f = figures(analyse(_landing_run(returns)))
+    assert (f['outcome'], f['abort_reason']) == (('incomplete', None) if returns else ('aborted', 'reel trip: fouling'))
+    assert f['success'] is False
+    assert f['hold_time'] == pytest.approx(53.0) and f['landing_time'] == LANDING
+    assert (f['peak_tension_reel'], f['peak_tension_uav']) == (90.0, 85.0)
+    assert (f['reel_trips'], f['reel_trips_flying']) == (3, 1)
+    assert f['fouled_time'] == 0.0 and f['landing_fouled_time'] == pytest.approx(10.0)
+    assert f['least_clearance_deck'] == pytest.approx(2.3) and f['least_clearance_sea'] == 3.0
+    assert f['landing_peak_tension_reel'] == 90.0
+    assert f['altitude_peak_to_peak'] == pytest.approx(0.1, abs=1e-3)
+    assert f['dz_rmse'] is None and f['length_rmse'] is None and f['shape_mean'] is None
+
+
+@pytest.mark.parametrize('pad, outcome', [((15.0, 0.3), 'landed_on_pad'), ((0.75, 0.0), 'landed'), (None, 'landed')])
+def test_the_outcome_of_a_landing_is_on_the_pad_only_within_its_radius(pad, outcome):
+    """On the pad: the UAV (at x 15 m, y 0) touches down within PAD_RADIUS (0.5 m) of the pad's track; without a
+    pad track (another UAV, or no pad ground) a landing is not on a pad.
+    """
+    run = _landing_run()
+    track = None if pad is None else np.array([[t, pad[0], pad[1], 0.0] for t in np.arange(0.0, 80.0, 0.01)])
+    run = replace(run, phases=run.phases + [(79.0, 'landed', 'end of the mission', STATION)], pad=track)
+    f = figures(analyse(run))
+    assert f['outcome'] == outcome and f['success'] is (outcome == 'landed_on_pad') and f['abort_reason'] is None
