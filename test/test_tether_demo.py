@@ -19,12 +19,10 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-import yaml
 from mcap.reader import make_reader
 from mcap_ros2.decoder import DecoderFactory
 from rosbags.highlevel import AnyReader
 
-from tether_bringup.bag_reader import read_bag
 from tether_common.constants import GRAVITY
 from tether_dynamics.statics.catenary import THESIS_LINEAR_DENSITY
 
@@ -162,44 +160,6 @@ def test_truth_wrench_and_state_agree_step_by_step(run):
         weight.append(THESIS_LINEAR_DENSITY * GRAVITY * (uav.z - reel.z))
     # A hanging tether: T_B - T_A = mu g dz, on average over the run's dynamics.
     assert np.mean(difference) == pytest.approx(np.mean(weight), rel=0.15)
-
-
-def _readme_topics() -> dict[str, tuple[str, float, str, str]]:
-    """The README's topic table: topic -> (type, rate Hz, reliability, publisher → subscribers)."""
-    readme = (Path(__file__).resolve().parent.parent / 'README.md').read_text()
-    rows = {}
-    for line in readme.splitlines():
-        cells = [c.strip() for c in line.strip().strip('|').split('|')]
-        if len(cells) == 5 and cells[0].startswith('/'):
-            rate = re.search(r'(\d+(?:\.\d+)?) Hz', cells[3])
-            rows[cells[0]] = (cells[1].split(' ')[0], float(rate.group(1)), cells[4].split(',')[0], cells[2])
-    return rows
-
-
-def test_readme_topic_table_is_what_tether_demo_records(run):
-    _, out = run
-    bag = read_bag(out / 'bag')
-    table = _readme_topics()
-    recorded = {name for name in bag.topics if name not in ('/rosout', '/parameter_events')}
-    assert set(table) == recorded
-    stamps: dict[str, list[int]] = {}
-    by_rosbags, _, _ = _decoded(out / 'bag' / 'bag_0.mcap')
-    for topic, msg in by_rosbags:
-        stamp = msg.clock if topic == '/clock' else msg.markers[0].header.stamp if topic == '/tether/markers' \
-            else msg.header.stamp
-        stamps.setdefault(topic, []).append(stamp.sec * 1_000_000_000 + stamp.nanosec)
-    graph = yaml.safe_load((out / 'graph.yaml').read_text())
-    for name, (type_name, rate, reliability, edges) in table.items():
-        topic = bag.topics[name]
-        readers = graph[name]['subscribers'] + (['recorder (stream)'] if graph[name]['recorded'] == 'stream' else [])
-        assert edges == f'{", ".join(graph[name]["publishers"])} → {", ".join(readers)}', name
-        assert graph[name]['recorded'] and graph[name]['qos'][0]['reliability'] == reliability, name
-        assert topic.type_name.replace('/msg/', '/') == type_name, name
-        expected = 'reliable' if reliability == 'reliable' else 'best_effort'
-        assert {q.reliability for q in topic.qos} == {expected}, name
-        t = np.array(stamps[name])
-        assert len(t) >= 2, name
-        assert (len(t) - 1) / ((t[-1] - t[0]) * 1e-9) == pytest.approx(rate, rel=1e-6), name
 
 
 def test_a_run_at_rate_max_with_every_core_busy_records_the_same_payloads(run, tmp_path):

@@ -85,7 +85,7 @@ def test_mission_flies_the_builtin_uav_against_a_tether_pull(ros_domain):  # noq
         _start('uav_bridge.builtin_uav_node', 'start:=[0.0, 0.0, 0.3]', 'tether_force:=topic', 'command_rate:=10.0',
                domain=ros_domain, env=members_env('builtin_uav', 'mission')),
         _start('uav_bridge.mission_node', 'altitude:=5.0', 'radial:=2.5', 'retry_period:=0.5', 'reel_rate:=100.0',
-               domain=ros_domain, env=members_env('builtin_uav', 'mission'))]
+               'return_speed:=1.0', 'return_height:=2.0', domain=ros_domain, env=members_env('builtin_uav', 'mission'))]
     probe = Probe()
     pull = WrenchStamped()
     pull.header.frame_id = 'world'
@@ -108,7 +108,9 @@ def test_mission_flies_the_builtin_uav_against_a_tether_pull(ros_domain):  # noq
         reel.mode = ReelState.MODE_FAULT
         wait_until(lambda: phases[-1].phase == 'landed', timeout=60, what='landed after the reel trip')
         assert phases[-1].aborted and 'test trip' in phases[-1].reason
-        assert probe.got['pose'][-1].pose.position.z == pytest.approx(0.3)
+        assert [p.phase for p in phases][-3:] == ['return', 'land', 'landed']     # over its pad, not where it was
+        position = probe.got['pose'][-1].pose.position
+        assert position.z == pytest.approx(0.3) and abs(position.x) < 0.5 and abs(position.y) < 0.5
     finally:
         probe.close()
         stopped = stop_nodes(processes)

@@ -73,13 +73,14 @@ def _position(pose) -> tuple[float, float, float]:
     return p.x, p.y, p.z
 
 
-def test_mission_holds_station_and_lands_on_a_reel_trip(ros_domain):  # noqa: F811
+def test_mission_holds_station_and_on_a_reel_trip_returns_over_the_pad_and_lands_there(ros_domain):  # noqa: F811
     peer = ArduCopterPeerDouble(speedup=5.0, ekf_delay=20.0).start()
     processes = [
         _start('uav_bridge.mavlink_bridge', f'url:=tcp:127.0.0.1:{peer.port}', 'pose_rate:=20.0', 'imu_rate:=5.0',
                'global_rate:=1.0', 'link_timeout:=1.0', domain=ros_domain),
         _start('uav_bridge.mission_node', 'altitude:=5.0', 'radial:=2.5', 'bearing:=90.0', 'retry_period:=0.5',
-               'uav_link:=services', domain=ros_domain)]
+               'uav_link:=services', 'return_speed:=1.0', 'return_height:=2.0', 'pad:=[0.0, 0.5]',
+               domain=ros_domain)]
     probe = Probe()
     publish_clock(probe)
     phases = []
@@ -99,10 +100,13 @@ def test_mission_holds_station_and_lands_on_a_reel_trip(ros_domain):  # noqa: F8
         trip = ReelState()
         trip.mode = ReelState.MODE_FAULT
         reel.publish(trip)
-        wait_until(lambda: phases[-1].phase == 'land', what='the abort')
+        wait_until(lambda: phases[-1].phase == 'return', what='the abort')
         assert phases[-1].aborted and 'reel' in phases[-1].reason
         wait_until(lambda: phases[-1].phase == 'landed', timeout=90, what='landed')
+        assert [p.phase for p in phases][-3:] == ['return', 'land', 'landed']
+        # over the pad (ENU x 0, y 0.5: NED north 0.5, east 0), never beside the boat where the trip found it
         assert not peer.snapshot()['armed'] and peer.snapshot()['position'][2] > -0.1
+        assert np.allclose(peer.snapshot()['position'][:2], [0.5, 0.0], atol=0.5)
     finally:
         probe.close()
         stopped = stop_nodes(processes)

@@ -194,5 +194,5 @@ def _run(args: argparse.Namespace) -> int:
     return analysis('tethersim report campaign', _command)(args)
 
 
-COMMAND = Command('a campaign (tethersim sweep): success rate with 95 % Wilson intervals per factor level, '
+COMMAND = Command('a campaign (tethersim sweep): success rate with 95 %% Wilson intervals per factor level, '
                   'figure distributions, worst runs', _arguments, _run)

@@ -15,7 +15,7 @@ from pathlib import Path
 
 import numpy as np
 
-from tether_bringup.run_params import node_parameter
+from tether_bringup.run_directory import node_parameter
 
 GUIDE_HEIGHT = 0.3
 """m, the guide way above the deck: the reel node's default ``guide_height``."""

@@ -33,7 +33,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
 from tether_bringup.bag_reader import read_bag  # noqa: E402
-from tether_bringup.run_params import node_parameter  # noqa: E402
+from tether_bringup.run_directory import node_parameter  # noqa: E402
 from tether_dynamics.clearance import above_deck  # noqa: E402
 from tether_dynamics.clearance import guide_height  # noqa: E402
 from tether_dynamics.statics.catenary import solve  # noqa: E402

@@ -57,7 +57,7 @@ import numpy as np  # noqa: E402
 from tether_bringup.bag_reader import Bag  # noqa: E402
 from tether_bringup.bag_reader import BagError  # noqa: E402
 from tether_bringup.bag_reader import read_bag  # noqa: E402
-from tether_bringup.run_params import node_parameter  # noqa: E402
+from tether_bringup.run_directory import node_parameter  # noqa: E402
 from tether_common.command_line import Command  # noqa: E402
 from tether_common.command_line import UsageError  # noqa: E402
 from tether_common.command_line import analysis  # noqa: E402

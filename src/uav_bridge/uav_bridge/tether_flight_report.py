@@ -23,7 +23,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
 from tether_bringup.bag_reader import read_bag  # noqa: E402
-from tether_bringup.run_params import node_parameter  # noqa: E402
+from tether_bringup.run_directory import node_parameter  # noqa: E402
 from tether_common.constants import GRAVITY  # noqa: E402
 from uav_bridge.json_physics_params import PARAMETERS as PHYSICS_PARAMETERS  # noqa: E402
 from uav_bridge.report import hold_interval  # noqa: E402
