@@ -149,7 +149,13 @@ def test_the_mission_ends_with_its_reason_when_arducopter_is_lost_mid_hover(tmp_
     assert not [s for s in states if not s.connected and (s.armed or s.mode)]      # a closed link: nothing known
     assert not [s for s in states if s.reboots >= 1 and s.armed]                  # the new boot was never armed
     logs = _log_lines(out)
-    assert 'link lost' in logs and 'link stale' not in logs
+    bridge = [line for line in logs.splitlines() if '[mavlink_bridge]' in line]
+    lost = [i for i, line in enumerate(bridge) if 'link lost' in line]
+    if event == 'reboot':     # a reboot closes the link or only silences it past link_timeout, as SITL's pace decides
+        assert lost or any('link stale' in line for line in bridge)
+    else:
+        assert lost
+    assert not [i for i in lost if i + 1 < len(bridge) and 'link stale' in bridge[i + 1]]   # never stale right after lost
     assert f'mission phase lost: {last.reason}' in logs
     summary = (out / 'summary.txt').read_text()
     outages = next(line for line in summary.splitlines() if line.startswith('  autopilot: '))

@@ -120,7 +120,10 @@ class LinkStatus:
     connected: bool
     stale: bool
     armed: bool
+    """As of the latest HEARTBEAT while connected; False while the link is closed or stale (nothing is known of a
+    silent autopilot, which may be rebooting)."""
     mode: str
+    """As :attr:`armed`: '' while the link is closed or stale."""
     ready: bool
     position_ready: bool
     ekf_flags: int
@@ -583,10 +586,11 @@ class MavlinkSession:
         """The current :class:`LinkStatus`."""
         state = self.state
         position_ready = state.position_ready(now)
+        connected = self._transport is not None and not state.stale(now)
         return LinkStatus(
-            stamp=self.stamp_clock(), connected=self._transport is not None and not state.stale(now),
-            stale=state.stale(now), armed=state.armed, mode=state.mode,
-            ready=state.armed and state.mode.startswith('GUIDED') and position_ready and not state.stale(now),
+            stamp=self.stamp_clock(), connected=connected, stale=state.stale(now),
+            armed=state.armed and connected, mode=state.mode if connected else '',
+            ready=state.armed and state.mode.startswith('GUIDED') and position_ready and connected,
             position_ready=position_ready, ekf_flags=state.ekf_flags,
             waiting_for=state.waiting_for(now, str(self.endpoint), self.missing_streams(now)),
             heartbeat_age=state.heartbeat_age(now), time_offset=self._time_offset,
