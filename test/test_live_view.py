@@ -151,6 +151,9 @@ def test_client_sees_every_recorded_topic_with_the_bags_schema(runs):
     advertised = {channel['topic']: channel for event in live if event['event'] == 'advertise'
                   for channel in event['channels']}
     assert set(advertised) == set(bag.topics)
+    first = next(event for event in live if event['event'] == 'advertise')
+    assert {channel['topic'] for channel in first['channels']} == set(bag.topics), \
+        'the URL was announced before every channel was advertised'
     for topic, channel in advertised.items():
         assert (channel['encoding'], channel['schemaEncoding']) == ('cdr', 'ros2msg'), topic
         assert channel['schemaName'] == bag.topics[topic].type_name, topic
@@ -219,7 +222,9 @@ def test_summary_reports_the_servers_share(runs):
 def test_replay_serves_the_bag_again(runs):
     base, _, replayed = runs
     received = _received(replayed)
-    assert all(received[topic] for topic in SUBSCRIBED)
+    assert all(received[topic] for topic in SUBSCRIBED), {topic: len(found) for topic, found in received.items()}
+    first = next(event for event in replayed if event['event'] == 'advertise')
+    assert {channel['topic'] for channel in first['channels']} == {*SUBSCRIBED, '/clock'}
     assert _mismatches(base / 'live', replayed) == []
 
 

@@ -36,6 +36,8 @@ def test_live_bag_writes_the_same_bag_and_offers_each_message_once(tmp_path):
     _write(BagWriter(tmp_path / 'plain'), 5)
     stats = tmp_path / 'live.yaml'
     server = LiveServer('127.0.0.1', 0, str(stats))
+    assert not stats.exists()            # announced only once the recorder has advertised every topic
+    server.announce()
     assert yaml.safe_load(stats.read_text())['url'] == server.url
     _write(LiveBag(BagWriter(tmp_path / 'live'), server), 5)
     assert _records(tmp_path / 'live' / 'live_0.mcap') == _records(tmp_path / 'plain' / 'plain_0.mcap')

@@ -32,6 +32,7 @@ from pathlib import Path
 import foxglove
 import yaml
 from foxglove.websocket import Capability
+from foxglove.websocket import ServerListener
 
 from tether_bringup.msgdef import concatenated_definition
 
@@ -79,8 +80,10 @@ def thread_cpu(task: Path) -> float:
     return (int(fields[11]) + int(fields[12])) / _TICKS
 
 
-class _Subscriptions:
-    """The server's listener: sets ``subscribed`` once a client has subscribed to a channel."""
+class _Subscriptions(ServerListener):
+    """The server's listener: sets ``subscribed`` once a client has subscribed to a channel (the SDK's
+    defaults for every other event).
+    """
 
     def __init__(self) -> None:
         self.subscribed = threading.Event()
@@ -93,7 +96,11 @@ class LiveServer:
     """A Foxglove WebSocket server on ``host:port`` (0: any free port) with one channel per topic.
 
     With ``wait_for_client``, :attr:`ready` is False until a client has subscribed to a channel:
-    the recorder reports ready only then, so the clock starts with a viewer watching.
+    the recorder reports ready only then, so the clock starts with a viewer watching. The URL
+    goes into ``stats_file`` only when :meth:`announce` is called: the recorder does so once it has
+    advertised every topic of the settled graph, because a client that connects while channels are
+    being added can be sent a channel the SDK's server then does not know ("attempted to subscribe
+    to unknown channel"), and that subscription is lost.
     """
 
     def __init__(self, host: str, port: int, stats_file: str = '', wait_for_client: bool = False) -> None:
@@ -118,8 +125,13 @@ class LiveServer:
         self._stop = threading.Event()
         self._thread = threading.Thread(target=self._serve, name='live server', daemon=True)
         self._thread.start()
-        if stats_file:
-            Path(stats_file).write_text(yaml.safe_dump({'url': self.url}))
+        self._announced = False
+
+    def announce(self) -> None:
+        """Write the server's URL into the statistics file (once), for the bringup and its clients to connect to."""
+        if self._stats_file and not self._announced:
+            Path(self._stats_file).write_text(yaml.safe_dump({'url': self.url}))
+        self._announced = True
 
     @property
     def ready(self) -> bool:

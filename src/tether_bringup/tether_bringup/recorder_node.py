@@ -25,8 +25,8 @@ ready once the group has announced its publishers; at shutdown it reads the stre
 end (the group has exited) before it finalizes the bag.
 
 With ``live_port``, it also serves what it writes over the Foxglove WebSocket protocol
-(:mod:`tether_bringup.live_server`); with ``live_wait`` it reports ready only once a client
-has subscribed there.
+(:mod:`tether_bringup.live_server`), announcing its URL once the graph has settled and every
+topic is advertised; with ``live_wait`` it reports ready only once a client has subscribed there.
 """
 
 from __future__ import annotations
@@ -156,7 +156,10 @@ class Recorder(Node):
 
     def discover(self) -> None:
         """Subscribe to new topics (or take them from the group's stream); report readiness once the graph has settled."""
-        waiting = isinstance(self.bag, LiveBag) and not self.bag.server.ready
+        live = self.bag.server if isinstance(self.bag, LiveBag) else None
+        if live is not None and not self.params['ready_file']:
+            live.announce()            # no bringup waits for this recorder: serve from the start
+        waiting = False
         for topic, (type_name, count) in list(self._streamed.items()):
             if self.count_publishers(topic) != count:
                 waiting |= self._check_streamed(topic, type_name)
@@ -195,6 +198,10 @@ class Recorder(Node):
                 self._last_change = time.monotonic()
             settled = time.monotonic() - self._last_change >= self.params['settle_time']
             if self._expected <= present and settled and self._matched_every_publisher():
+                if live is not None:
+                    live.announce()    # every channel is advertised: clients may connect now
+                    if not live.ready:
+                        return
                 self._ready = True
                 with self._lock:
                     routes = {topic: 'stream' if self._stream_routes.get(topic, _DROP) is not _DROP else 'dds'

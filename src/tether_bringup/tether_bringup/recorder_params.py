@@ -29,5 +29,5 @@ PARAMETERS = (
               '0 any free one', '', -1, 65535),
     ParamSpec('live_host', LIVE_HOST, 'Address the live server listens on'),
     ParamSpec('live_wait', False, 'Report ready only once a client has subscribed to the live server'),
-    ParamSpec('live_stats_file', '', 'File the live server writes its URL to at start and its statistics at stop'),
+    ParamSpec('live_stats_file', '', 'File the live server writes its URL to once every topic is advertised, and its statistics at stop'),
 )
