@@ -9,8 +9,8 @@
 - the generated blocks of deterministic results are what their commands print now
   (``tools/docs.py --check``): the scene table and the estimator evaluation from the
   reference bags, and the default mission and its topics from one full run of
-  ``outdoor_flight``. The surrogate table takes six full runs and is checked by
-  ``tools/docs.py --check`` outside CI.
+  ``outdoor_flight``; the surrogate tables from full runs of the surrogate scenes in
+  test_docs_surrogate.py.
 """
 
 from __future__ import annotations
