@@ -24,7 +24,7 @@ where it can be and conservative where it cannot:
    tension gradient of the tether's weight and inertia with the mean strain kept, so the
    exit tension (the reel element's tension carried to the guide way over its half-length,
    which is what the winch feels and the plant reports) has no step.
-3. Strain-keeping merge. When it shrinks below h / 4, node 1 is removed and node 2's
+3. Strain-keeping merge. When it shrinks below 0.35 h (``MERGE``), node 1 is removed and node 2's
    velocity is set so the momentum of the three lumps involved is unchanged. The joined
    element keeps the rest-length-weighted mean strain of the two it replaces: where node 1
    was a kink (a curved tether), the straight element needs less rest length at that
@@ -36,9 +36,9 @@ where it can be and conservative where it cannot:
    from the guide way to the UAV (no free node left to limit the step), so a UAV landing
    over the guide way can be reeled in to a fraction of h.
 
-The reel element's rest length therefore stays in [h / 4, 3 h / 2] whenever there is more
+The reel element's rest length therefore stays in [0.35 h, 3 h / 2] whenever there is more
 than one element, and every other element has rest length h: the element sizes stay within
-a ratio of 6. The count follows the deployed length (L / h + 1 at most). Total tether mass,
+a ratio of 4.3. The count follows the deployed length (L / h + 1 at most). Total tether mass,
 drum (mu (total - L)) plus deployed (mu times the sum of rest lengths), is conserved to
 rounding: the rest length added to the reel element each step is the deployed length the
 winch added in that step (plus the merge's pay-back, already counted as deployed).
@@ -89,7 +89,7 @@ follows (m + mu L) g to 0.7 %); the energy balance closes to 1.6e-3 (100 m out a
 
 Time stepping is symplectic Euler with lumped masses (one force evaluation per step); the
 stable step of linear elements is about 0.7 h / c (c = sqrt(EA / mu), the shortest reel
-element h / 4); of quadratic elements it is computed from the highest mode of a short and
+element 0.35 h); of quadratic elements it is computed from the highest mode of a short and
 two full elements (about 0.28 h / c without damping). The plant accepts 0.9 of that estimate
 where Kelvin-Voigt damping damps the highest mode, 0.5 without (:func:`accepted_step`), checked
 at construction; an energy-balance watchdog stops a run that diverges anyway (:meth:`FemTether._watch`).
