@@ -128,6 +128,13 @@ class RelativeAltitudeFilter:
         """Innovation (m) and its variance S = H P H^T + R (m^2) of a dGPS altitude against the current state."""
         return float(dz - self.kf.x[0, 0]), float(self.kf.P[0, 0] + self.covariances.sigma_dgps)
 
-    def update_dgps(self, dz: float) -> None:
-        """Fuse one dGPS relative altitude (Eq. 4.8, first row)."""
-        self.kf.update(np.array([[dz]]), R=self._r_dgps, H=H_DGPS)
+    def update_dgps(self, dz: float, variance: float = 0.0) -> None:
+        """Fuse one dGPS relative altitude (Eq. 4.8, first row) with R = max(sigma_dgps, ``variance``).
+
+        ``variance``: the square of the vertical sigma the receiver reports with the fix (m^2). A
+        fix the receiver calls worse than the tuned sigma_dgps is weighed as the receiver says
+        (a 0.3 m float-grade fix fused at a tuned 0.01 m would pull the altitude and its rate
+        as hard as an RTK-fixed one).
+        """
+        r = self._r_dgps if variance <= self.covariances.sigma_dgps else np.array([[variance]])
+        self.kf.update(np.array([[dz]]), R=r, H=H_DGPS)

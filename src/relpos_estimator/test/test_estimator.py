@@ -158,3 +158,69 @@ def test_same_seed_same_estimates(truth):
     a = _run(truth, DgpsConfig()).arrays()
     b = _run(truth, DgpsConfig()).arrays()
     np.testing.assert_array_equal(a['dz'], b['dz'])
+
+
+FLIGHT = configs({**{spec.name: spec.default for spec in PARAMETERS}, 'covariances': 'flight'})
+"""The flight covariances (config/estimator_flight.yaml: sigma_dgps 1e-4 m^2, the RTK-fixed sigma)."""
+
+
+def _rate_error(out, truth_fn):
+    """Largest |rate error| (m/s) of the estimates after ``out``'s first one."""
+    return max(abs(e.x[1] - (truth_fn(e.t + 1e-4) - truth_fn(e.t - 1e-4)) / 2e-4) for e in out[1:])
+
+
+def test_a_fix_the_receiver_calls_coarse_is_weighed_as_coarse():
+    """A status-4 fix 0.5 m off that reports a 0.3 m sigma passes the gate (its NIS is 2.8, as the
+    receiver's sigma says it may be that far off); fused at the flight sigma_dgps (0.01 m) it pulled
+    the altitude 0.37 m and its rate 0.29 m/s (a flight of the campaign); at its own 0.3 m it moves
+    them by less than 1 cm and 1 cm/s.
+    """
+    fixes = [_fix(k * 0.25, _wave(k * 0.25), k) for k in range(0, 41)]
+    coarse = Fix(10.25 + 0.05, 10.25, np.array([2.5, 0.0, _wave(10.25) + 0.5]), np.full(3, 0.3), STATUS_RTK_FIXED, 41)
+    est = Estimator(*FLIGHT)
+    out = _drive(est, _wave, 10.4, [*fixes, coarse])
+    assert [f.sequence for f in out[-1].fused] == [] and any(41 in [f.sequence for f in e.fused] for e in out)
+    assert abs(out[-1].x[0] - _wave(10.4)) < 0.01
+    assert _rate_error(out[-5:], _wave) < 0.01
+
+
+def test_a_reacquisition_learns_the_rate_again():
+    """A filter whose rate drifted 0.5 m/s off (as a bad fix left it) is locked out by the gate until
+    it re-acquires; the re-acquisition resets the altitude and re-learns the rate from the fixes it had
+    rejected, so it re-acquires once and then tracks (an altitude reset alone left the rate error in
+    place, re-acquired every 2 s and never settled).
+    """
+    fixes = [_fix(k * 0.25, _wave(k * 0.25), k) for k in range(0, 81)]
+    est = Estimator(*FLIGHT)
+    out = _drive(est, _wave, 8.0, [f for f in fixes if f.arrival <= 8.0])
+    for tick in est.history:
+        tick.x[1] += 0.5
+    est.filter.restore(est.history[-1].x, est.history[-1].P)
+    later = [f for f in fixes if f.arrival > 8.0]
+    out = [est.step(k / 100, *_accelerations(k / 100), [f for f in later if int(np.ceil(f.arrival * 100 - 1e-6)) == k])
+           for k in range(801, 2001)]
+    rejections = [r for e in out for r in e.rejections]
+    assert len(rejections) == est.logic.reacquire_after - 1
+    settled = [e for e in out if e.t >= 12.0]
+    assert max(abs(e.x[0] - _wave(e.t)) for e in settled) < 0.02
+    assert _rate_error(settled, _wave) < 0.05
+
+
+def _accelerations(t):
+    """(reel, UAV) vertical accelerations _drive feeds for dz = _wave."""
+    return -(_wave(t + 0.01) - 2 * _wave(t) + _wave(t - 0.01)) / 1e-4, 0.0
+
+
+def test_a_fix_metres_off_horizontally_does_not_reach_the_radial_distance():
+    """A fused fix whose altitude is right but whose x, y are 5 m off (a wild fix in a flight of the
+    campaign moved the reel's reference 1.8 m) leaves the horizontal passthrough where it was; the
+    next good fix passes as before.
+    """
+    fixes = [_fix(k * 0.25, _wave(k * 0.25), k) for k in range(0, 41)]
+    wild = _fix(10.25, _wave(10.25), 41)
+    wild = Fix(wild.arrival, wild.fix_time, np.array([5.5, -4.0, wild.position[2]]), wild.std, wild.status, 41)
+    good = _fix(10.5, _wave(10.5), 42)
+    out = _drive(Estimator(), _wave, 10.6, [*fixes, wild, good])
+    after_wild = next(e for e in out if 41 in [f.sequence for f in e.fused])
+    assert after_wild.radial == pytest.approx(2.5) and after_wild.horizontal_fix_time == pytest.approx(10.0)
+    assert out[-1].horizontal_fix_time == pytest.approx(10.5)
