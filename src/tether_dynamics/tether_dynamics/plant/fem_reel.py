@@ -109,10 +109,13 @@ from tether_dynamics.plant.config import PlantConfig, PlantConfigError
 # The step the plant accepts, as a share of the estimate :func:`stable_step` (its margin): 0.9 when
 # internal damping damps the highest axial mode by a ratio of at least DAMPED_RATIO, 0.5 without.
 # Measured (bench/plant_stability: a stiff, light tether, EA 40 kN, 0.01 kg/m, on a heaving, paying-out
-# reel with the far end driven sideways): undamped, linear N = 40 peaks at 122, 201, 409 and 4,455 N at
-# 0.3, 0.5, 0.7 and 0.9 of the estimate (energy residual 0.009, 0.022, 0.12 and 5.9 of the throughput),
-# quadratic N = 40 at 0.9 reaches 430 N (residual 0.32); with c = 1 N s (ratio 0.07) linear N = 40 peaks
-# at 139.8, 139.4, 139.0 and 139.9 N at the same steps.
+# reel with the far end driven sideways), with merges below h / 4: undamped, linear N = 40 peaks at 122,
+# 201, 409 and 4,455 N at 0.3, 0.5, 0.7 and 0.9 of the estimate (energy residual 0.009, 0.022, 0.12 and
+# 5.9 of the throughput), quadratic N = 40 at 0.9 reaches 430 N (residual 0.32); with c = 1 N s (ratio
+# 0.07) linear N = 40 peaks at 139.8, 139.4, 139.0 and 139.9 N at the same steps. With merges below
+# 0.35 h (fem_kernels.MERGE; the estimate 1.18 times longer): undamped 178 and 282 N at 0.3 and 0.5
+# (residual 0.016, 0.055); c = 1 N s 118.9, 116.7, 118.3, 116.2 and 114.4 N at 0.3, 0.6, 0.7, 0.8 and
+# 0.9 (residual 0.008 to 0.066): within 4 %, the scatter of the snaps, not a trend with the step.
 STABLE_FRACTION = 0.9
 UNDAMPED_FRACTION = 0.5
 DAMPED_RATIO = 0.01
