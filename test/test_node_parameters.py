@@ -71,7 +71,7 @@ BAD = [
      _refusal('tether_bringup', 'recorder', 'flush_period', 100.0)),
     ('recorder wrong list', RECORDER, ['exclude:=[1, 2]'], _refusal('tether_bringup', 'recorder', 'exclude', [1, 2])),
     ('plant step its elements cannot take', PLANT, ['fidelity:=linear', 'integration_step:=0.01'],
-     "plant: error: at the reel's full length (100 m): dt 0.01 s is above the stable step 0.00256 s of elements of "
+     "plant: error: at the reel's full length (100 m): dt 0.01 s is above the stable step 0.00303 s of elements of "
      '5 m (EA 20000 N, mu 0.042 kg/m, damping ratio 0); reduce dt or lengthen the elements'),
     ('builtin UAV IMU rate off its ticks', BUILTIN_UAV, ['imu_rate:=30.0'],
      'builtin_uav: error: parameter imu_rate: 30 Hz is not rate 100 Hz divided by a whole number (its messages '
