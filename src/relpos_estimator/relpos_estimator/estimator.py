@@ -205,7 +205,6 @@ class Estimator:
         self.horizontal = np.full(3, np.nan)
         self.horizontal_fix_time = math.nan
         self.suspects: list[Fix] = []
-        self.suspects_fused: list[Fix] = []
         self.regular_fixes = 0
         self.innovation_var = math.inf
         self.held: list[Fix] = []
@@ -296,7 +295,7 @@ class Estimator:
             return math.nan
         nearest = min(self.accepted, key=lambda tau: abs(tau - fix.fix_time))
         gap = abs(nearest - fix.fix_time)
-        limit = lg.max_jump + lg.max_speed * max(0.0, gap - self.fix_period)
+        limit = self._jump_limit(gap)
         tick = self.history[j - self.history[0].k]
         innovation = dz - float(tick.x[0])
         s = min(float(tick.P[0, 0]), self.innovation_var, lg.gate_max_std**2) + float(fix.std[2]) ** 2
@@ -304,8 +303,9 @@ class Estimator:
         gated = self.regular_fixes >= lg.reacquire_after and nis > lg.gate_chi2
         jump = abs(dz - self.accepted[nearest])
         if jump > limit or gated:
-            if self._reacquire(fix, limit):
-                self._reacquire_on(self.suspects_fused)
+            suspects = self._reacquire(fix, limit)
+            if suspects:
+                self._reacquire_on(suspects)
                 return nis
             if jump > limit:
                 return self._reject(fix, 'jump', f'{jump:.3f} m from the fix at {nearest:.3f} s '
@@ -322,17 +322,18 @@ class Estimator:
         self._fuse_at(j, fix, reset=False)
         return nis
 
-    def _reacquire(self, fix: Fix, limit: float) -> bool:
-        """Count a suspect fix; True once enough mutually consistent suspects say the filter is wrong."""
+    def _reacquire(self, fix: Fix, limit: float) -> list[Fix]:
+        """Count a suspect fix; once enough mutually consistent suspects say the filter is wrong, return
+        them (the filter re-acquires on them), else an empty list.
+        """
         self.suspects.append(fix)
         if len(self.suspects) < self.logic.reacquire_after:
-            return False
+            return []
         recent = self.suspects[-self.logic.reacquire_after:]
-        consistent = all(abs(b.position[2] - a.position[2]) <= limit for a, b in zip(recent, recent[1:]))
-        if consistent:
-            self.suspects_fused = recent
-            self.suspects.clear()
-        return consistent
+        if not all(abs(b.position[2] - a.position[2]) <= limit for a, b in zip(recent, recent[1:])):
+            return []
+        self.suspects.clear()
+        return recent
 
     def _reacquire_on(self, suspects: list[Fix]) -> None:
         """Reset the altitude to the oldest suspect in the history with the rate's variance re-opened,
@@ -389,10 +390,14 @@ class Estimator:
         """
         if not math.isfinite(self.horizontal_fix_time):
             return True
-        lg = self.logic
-        gap = fix.fix_time - self.horizontal_fix_time
-        limit = lg.max_jump + lg.max_speed * max(0.0, gap - self.fix_period)
+        limit = self._jump_limit(fix.fix_time - self.horizontal_fix_time)
         return math.hypot(fix.position[0] - self.horizontal[0], fix.position[1] - self.horizontal[1]) <= limit
+
+    def _jump_limit(self, gap: float) -> float:
+        """Largest plausible change (m) between fixes ``gap`` s apart: ``max_jump`` plus ``max_speed``
+        times the gap beyond one period (Sec. 6.4).
+        """
+        return self.logic.max_jump + self.logic.max_speed * max(0.0, gap - self.fix_period)
 
     def _forget_old_fixes(self) -> None:
         horizon = (self.history[0].k - 1) * self.dt - self.logic.max_age

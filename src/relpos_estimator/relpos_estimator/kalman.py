@@ -124,10 +124,6 @@ class RelativeAltitudeFilter:
         H, R = self._imu_rows[rows]  # noqa: N806
         self.kf.update(np.array([[y] for y in (y1, y2) if y is not None]), R=R, H=H)
 
-    def innovation(self, dz: float) -> tuple[float, float]:
-        """Innovation (m) and its variance S = H P H^T + R (m^2) of a dGPS altitude against the current state."""
-        return float(dz - self.kf.x[0, 0]), float(self.kf.P[0, 0] + self.covariances.sigma_dgps)
-
     def update_dgps(self, dz: float, variance: float = 0.0) -> None:
         """Fuse one dGPS relative altitude (Eq. 4.8, first row) with R = max(sigma_dgps, ``variance``).
 

@@ -77,10 +77,12 @@ def _fix(t, dz, seq, arrival=None):
                STATUS_RTK_FIXED, seq)
 
 
-def _drive(estimator, truth_fn, t_end, fixes, skip=()):
-    """Step 100 Hz with exact IMU accelerations of dz(t) = truth_fn; fixes: list of Fix delivered by arrival."""
+def _drive(estimator, truth_fn, t_end, fixes, t_start=0.0):
+    """Step 100 Hz from t_start with exact IMU accelerations of dz(t) = truth_fn; fixes: list of Fix delivered
+    by arrival.
+    """
     out = []
-    for k in range(int(round(t_end * 100)) + 1):
+    for k in range(int(round(t_start * 100)), int(round(t_end * 100)) + 1):
         t = k / 100
         accel = -(truth_fn(t + 0.01) - 2 * truth_fn(t) + truth_fn(t - 0.01)) / 1e-4
         due = [f for f in fixes if int(np.ceil(f.arrival * 100 - 1e-6)) == k]
@@ -196,19 +198,12 @@ def test_a_reacquisition_learns_the_rate_again():
     for tick in est.history:
         tick.x[1] += 0.5
     est.filter.restore(est.history[-1].x, est.history[-1].P)
-    later = [f for f in fixes if f.arrival > 8.0]
-    out = [est.step(k / 100, *_accelerations(k / 100), [f for f in later if int(np.ceil(f.arrival * 100 - 1e-6)) == k])
-           for k in range(801, 2001)]
+    out = _drive(est, _wave, 20.0, [f for f in fixes if f.arrival > 8.0], t_start=8.01)
     rejections = [r for e in out for r in e.rejections]
     assert len(rejections) == est.logic.reacquire_after - 1
     settled = [e for e in out if e.t >= 12.0]
     assert max(abs(e.x[0] - _wave(e.t)) for e in settled) < 0.02
     assert _rate_error(settled, _wave) < 0.05
-
-
-def _accelerations(t):
-    """(reel, UAV) vertical accelerations _drive feeds for dz = _wave."""
-    return -(_wave(t + 0.01) - 2 * _wave(t) + _wave(t - 0.01)) / 1e-4, 0.0
 
 
 def test_a_fix_metres_off_horizontally_does_not_reach_the_radial_distance():
