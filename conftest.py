@@ -17,6 +17,8 @@
 from __future__ import annotations
 
 import os
+import signal
+import subprocess
 import time
 from pathlib import Path
 
@@ -133,6 +135,30 @@ class LockstepMaster:
         self._wait(lambda: self._barrier.reached(time_ns) and (time_ns > 0 or self._matched()),
                    lambda: f'no ack of {time_ns} ns from {self._barrier.behind(time_ns)}' if self._barrier.behind(
                        time_ns) else 'the probe\'s publishers did not match every subscription')
+
+    def stop(self, timeout: float = 30.0) -> list[str]:
+        """SIGINT every member process and return what each printed (its output, then its errors).
+
+        One still running after ``timeout`` is aborted: SIGABRT makes the faulthandler the
+        executor enabled print every thread's stack into its output, so the test fails on the
+        process's status, shows where it hung, and leaves no process behind.
+        """
+        for p in self._processes:
+            p.send_signal(signal.SIGINT)
+        deadline = time.monotonic() + timeout
+        logs = []
+        for p in self._processes:
+            try:
+                parts = p.communicate(timeout=max(0.0, deadline - time.monotonic()))
+            except subprocess.TimeoutExpired:
+                p.send_signal(signal.SIGABRT)
+                try:
+                    parts = p.communicate(timeout=10.0)
+                except subprocess.TimeoutExpired:
+                    p.kill()
+                    parts = p.communicate()
+            logs.append(''.join(part or '' for part in parts))
+        return logs
 
     def step_to(self, time_ns: int) -> None:
         """Publish ``/clock`` at ``time_ns`` and wait until every member has run up to it."""

@@ -7,7 +7,6 @@ step, as the bringup does, so what the nodes publish does not depend on how fast
 from __future__ import annotations
 
 import os
-import signal
 import subprocess
 import sys
 import time
@@ -55,9 +54,7 @@ def test_sensors_and_estimator_track_the_platform(tmp_path, ros_domain, lockstep
         while time.monotonic() < end:
             rclpy.spin_once(node, timeout_sec=0.01)
     finally:
-        for p in processes:
-            p.send_signal(signal.SIGINT)
-        logs = [p.communicate(timeout=30)[0] for p in processes]
+        logs = master.stop()
         node.destroy_node()
         rclpy.shutdown()
     assert all(p.returncode == 0 for p in processes), logs

@@ -1,4 +1,4 @@
-"""A node whose destruction hangs ends anyway: the shutdown watchdog of ``node_main.run_nodes``."""
+"""A node whose spin or destruction hangs ends anyway: the shutdown watchdog of ``node_main.run_nodes``."""
 
 from __future__ import annotations
 
@@ -43,6 +43,69 @@ def test_a_node_stuck_in_its_destruction_is_ended_by_the_watchdog_with_status_1(
         _, stderr = process.communicate(timeout=60)      # the destruction alone would take 120 s
         assert process.returncode == 1
         assert 'Timeout' in stderr and 'destroy_node' in stderr    # faulthandler's dump names where it hung
+    finally:
+        if process.poll() is None:
+            process.kill()
+            process.wait()
+
+
+STUCK_NODE = textwrap.dedent('''
+    import sys, threading
+    from rclpy.node import Node
+    from tether_common import node_main
+
+    node_main.SHUTDOWN_TIMEOUT = float(sys.argv[1])
+
+    class StuckDouble(Node):
+        """A test double whose callback never returns, waiting with the GIL released as a stuck executor does."""
+
+        def __init__(self):
+            super().__init__('stuck_double')
+            self.timer = self.create_timer(0.05, self.stuck)
+
+        def stuck(self):
+            self.timer.cancel()
+            held = threading.Lock()
+            held.acquire()
+            print('stuck', flush=True)
+            held.acquire()
+
+    sys.exit(node_main.run_node(StuckDouble))
+''')
+
+
+def test_a_node_stuck_in_its_spin_is_ended_by_the_watchdog_armed_by_the_signal(ros_domain):
+    """SIGTERM never brings the main thread back from the callback; the watchdog its arrival armed ends it."""
+    process = subprocess.Popen([sys.executable, '-c', STUCK_NODE, '1.0'], stdout=subprocess.PIPE,
+                               stderr=subprocess.PIPE, text=True)
+    try:
+        assert process.stdout.readline().strip() == 'stuck'
+        process.send_signal(signal.SIGTERM)
+        _, stderr = process.communicate(timeout=60)      # without the watchdog: never
+        assert process.returncode == 1
+        assert 'Timeout' in stderr and 'in stuck' in stderr    # the dump names the callback it hung in
+    finally:
+        if process.poll() is None:
+            process.kill()
+            process.wait()
+
+
+def _ignore_sigint() -> None:
+    """In the child before it runs its program: SIGINT ignored, as a shell starts a background job."""
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+
+
+def test_a_node_whose_parent_ignores_sigint_ends_on_it_even_inside_a_callback(ros_domain):
+    """rclpy's handler alone shuts the context down but cannot bring the main thread back from the
+    callback; the node's own handler raises ``KeyboardInterrupt`` there, and the node ends normally.
+    """
+    process = subprocess.Popen([sys.executable, '-c', STUCK_NODE, '60.0'], stdout=subprocess.PIPE,
+                               stderr=subprocess.PIPE, text=True, preexec_fn=_ignore_sigint)
+    try:
+        assert process.stdout.readline().strip() == 'stuck'
+        process.send_signal(signal.SIGINT)
+        _, stderr = process.communicate(timeout=30)      # deaf to SIGINT, it would spin until killed
+        assert process.returncode == 0, stderr
     finally:
         if process.poll() is None:
             process.kill()

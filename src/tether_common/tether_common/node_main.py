@@ -7,7 +7,7 @@ one event at a time: its ``spin()`` does not return on SIGINT/SIGTERM (rclpy 7.1
 ``spin_once`` raises ``ExternalShutdownException`` once the signal has shut rclpy down.
 
 Ctrl-C, SIGTERM and an external shutdown end the node normally (exit status 0), also
-while the node is still being built. A
+while the node is still being built, and also when the parent ignored SIGINT. A
 :class:`ConfigurationError` raised while the node is built (a bad parameter, a missing
 file), or rclpy's own refusal of a parameter value (a parameter declared without a
 specification, such as ``use_sim_time``: a value of another type), is printed as one line
@@ -19,9 +19,11 @@ types): rcl's own log line about them is replaced by the one line.
 Destroying the nodes can hang: Fast DDS 2.14 may deadlock in ``DomainParticipant::set_listener``
 when the last node's participant is destroyed while a discovery callback for a vanishing remote
 participant runs (seen once in a test run: the platform node spun there, holding the GIL, for
-over ten minutes after SIGINT). A watchdog outside the GIL (``faulthandler``) then prints every
-thread's stack and ends the process with status 1 after :data:`SHUTDOWN_TIMEOUT`, so no node is
-left behind.
+over ten minutes after SIGINT). A watchdog outside the GIL (``faulthandler``) then prints
+every thread's stack and ends the process with status 1 after :data:`SHUTDOWN_TIMEOUT`, so no
+node is left behind. It is armed by the signal itself, from a thread of its own
+(:func:`_watch_for_shutdown_signals`), wherever the main thread is, and again when the
+destruction begins.
 """
 
 from __future__ import annotations
@@ -33,6 +35,7 @@ import re
 import signal
 import sys
 import tempfile
+import threading
 import time
 from collections.abc import Callable
 from contextlib import contextmanager
@@ -98,9 +101,7 @@ def run_nodes(factories: dict[str, Callable[[], Node]], args: list[str] | None =
     """
     from tether_common.lockstep import link_in_process  # lockstep imports this module's ConfigurationError
     program = Path(sys.argv[0]).name
-    if not interrupt_callbacks:
-        # rclpy's handler, installed by rclpy.init, shuts the context down and then calls this one
-        signal.signal(signal.SIGINT, signal.SIG_IGN)
+    stop = _watch_for_shutdown_signals(interrupt_callbacks)
     refused = _init(args)
     if refused:
         print(f'{program}: error: invalid --ros-args: {refused}', file=sys.stderr, flush=True)
@@ -119,7 +120,7 @@ def run_nodes(factories: dict[str, Callable[[], Node]], args: list[str] | None =
         for node in nodes:
             spinner.add_node(node)
         with _profiled(nodes[0].get_name() if len(nodes) == 1 else program):
-            while rclpy.ok():
+            while rclpy.ok() and not stop.is_set():
                 spinner.spin_once(timeout_sec=SPIN_TIMEOUT)
                 if record is not None:
                     record.flush()
@@ -149,6 +150,41 @@ def run_nodes(factories: dict[str, Callable[[], Node]], args: list[str] | None =
                 record.close()
             faulthandler.cancel_dump_traceback_later()
     return status
+
+
+def _watch_for_shutdown_signals(interrupt_callbacks: bool) -> threading.Event:
+    """Act on SIGINT and SIGTERM from the main thread as well as rclpy's, and arm the watchdog on their arrival.
+
+    Call before ``rclpy.init``: rclpy's handler shuts the context down from a thread of its
+    own and then calls the handler it found, so that one must be Python's. A parent that
+    ignores SIGINT (a shell's background job) would otherwise leave the node deaf to it
+    until ``rclpy.init``, and with rclpy's thread alone to end the spin after that (in a
+    test run started that way, once it did not: the estimator spun on for 30 s). SIGINT raises ``KeyboardInterrupt``, inside the running
+    callback; with ``interrupt_callbacks`` false it, like SIGTERM, sets the returned event,
+    which ends the spin once the callback returns. Python's C handler also writes the
+    signal's number to the wakeup pipe at once, and a thread blocked reading that pipe arms
+    ``faulthandler``'s timer, so a main thread that never comes back from the executor is
+    ended too.
+    """
+    stop = threading.Event()
+
+    def request_stop(signum, frame) -> None:
+        stop.set()
+
+    reader, writer = os.pipe()
+    os.set_blocking(writer, False)
+    signal.set_wakeup_fd(writer, warn_on_full_buffer=False)
+    signal.signal(signal.SIGINT, signal.default_int_handler if interrupt_callbacks else request_stop)
+    signal.signal(signal.SIGTERM, request_stop)
+    signal.pthread_sigmask(signal.SIG_UNBLOCK, (signal.SIGINT, signal.SIGTERM))
+    threading.Thread(target=_arm_watchdog_on_signal, args=(reader,), name='shutdown watchdog', daemon=True).start()
+    return stop
+
+
+def _arm_watchdog_on_signal(reader: int) -> None:
+    """Wait for a signal's byte on the wakeup pipe, then start the watchdog (status 1 after SHUTDOWN_TIMEOUT)."""
+    os.read(reader, 1)
+    faulthandler.dump_traceback_later(SHUTDOWN_TIMEOUT, exit=True)
 
 
 _TYPE_WORDS = {'BOOL': 'a boolean', 'INTEGER': 'an integer', 'DOUBLE': 'a number', 'STRING': 'a string',
