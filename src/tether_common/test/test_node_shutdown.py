@@ -34,19 +34,28 @@ NODE = textwrap.dedent('''
 ''')
 
 
-def test_a_node_stuck_in_its_destruction_is_ended_by_the_watchdog_with_status_1(ros_domain):
-    process = subprocess.Popen([sys.executable, '-c', NODE], stdout=subprocess.PIPE, stderr=subprocess.PIPE,
-                               text=True)
+def _signal_once_ready(args: list[str], ready: str, signum: int, timeout: float, **popen) -> tuple[int, str]:
+    """Run ``python -c ARGS``, send ``signum`` once it prints ``ready``; return its exit status and standard error.
+
+    A process still running after ``timeout`` (or a failed assertion) is killed, so none is left behind.
+    """
+    process = subprocess.Popen([sys.executable, '-c', *args], stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                               text=True, **popen)
     try:
-        assert process.stdout.readline().strip() == 'spinning'
-        process.send_signal(signal.SIGINT)
-        _, stderr = process.communicate(timeout=60)      # the destruction alone would take 120 s
-        assert process.returncode == 1
-        assert 'Timeout' in stderr and 'destroy_node' in stderr    # faulthandler's dump names where it hung
+        assert process.stdout.readline().strip() == ready
+        process.send_signal(signum)
+        _, stderr = process.communicate(timeout=timeout)
+        return process.returncode, stderr
     finally:
         if process.poll() is None:
             process.kill()
             process.wait()
+
+
+def test_a_node_stuck_in_its_destruction_is_ended_by_the_watchdog_with_status_1(ros_domain):
+    status, stderr = _signal_once_ready([NODE], 'spinning', signal.SIGINT, timeout=60)  # the destruction: 120 s
+    assert status == 1
+    assert 'Timeout' in stderr and 'destroy_node' in stderr    # faulthandler's dump names where it hung
 
 
 STUCK_NODE = textwrap.dedent('''
@@ -76,18 +85,9 @@ STUCK_NODE = textwrap.dedent('''
 
 def test_a_node_stuck_in_its_spin_is_ended_by_the_watchdog_armed_by_the_signal(ros_domain):
     """SIGTERM never brings the main thread back from the callback; the watchdog its arrival armed ends it."""
-    process = subprocess.Popen([sys.executable, '-c', STUCK_NODE, '1.0'], stdout=subprocess.PIPE,
-                               stderr=subprocess.PIPE, text=True)
-    try:
-        assert process.stdout.readline().strip() == 'stuck'
-        process.send_signal(signal.SIGTERM)
-        _, stderr = process.communicate(timeout=60)      # without the watchdog: never
-        assert process.returncode == 1
-        assert 'Timeout' in stderr and 'in stuck' in stderr    # the dump names the callback it hung in
-    finally:
-        if process.poll() is None:
-            process.kill()
-            process.wait()
+    status, stderr = _signal_once_ready([STUCK_NODE, '1.0'], 'stuck', signal.SIGTERM, timeout=60)  # without it: never
+    assert status == 1
+    assert 'Timeout' in stderr and 'in stuck' in stderr    # the dump names the callback it hung in
 
 
 def _ignore_sigint() -> None:
@@ -99,14 +99,6 @@ def test_a_node_whose_parent_ignores_sigint_ends_on_it_even_inside_a_callback(ro
     """rclpy's handler alone shuts the context down but cannot bring the main thread back from the
     callback; the node's own handler raises ``KeyboardInterrupt`` there, and the node ends normally.
     """
-    process = subprocess.Popen([sys.executable, '-c', STUCK_NODE, '60.0'], stdout=subprocess.PIPE,
-                               stderr=subprocess.PIPE, text=True, preexec_fn=_ignore_sigint)
-    try:
-        assert process.stdout.readline().strip() == 'stuck'
-        process.send_signal(signal.SIGINT)
-        _, stderr = process.communicate(timeout=30)      # deaf to SIGINT, it would spin until killed
-        assert process.returncode == 0, stderr
-    finally:
-        if process.poll() is None:
-            process.kill()
-            process.wait()
+    status, stderr = _signal_once_ready([STUCK_NODE, '60.0'], 'stuck', signal.SIGINT, timeout=30,
+                                        preexec_fn=_ignore_sigint)  # deaf to SIGINT, it would spin until killed
+    assert status == 0, stderr

@@ -159,12 +159,13 @@ def _watch_for_shutdown_signals(interrupt_callbacks: bool) -> threading.Event:
     own and then calls the handler it found, so that one must be Python's. A parent that
     ignores SIGINT (a shell's background job) would otherwise leave the node deaf to it
     until ``rclpy.init``, and with rclpy's thread alone to end the spin after that (in a
-    test run started that way, once it did not: the estimator spun on for 30 s). SIGINT raises ``KeyboardInterrupt``, inside the running
-    callback; with ``interrupt_callbacks`` false it, like SIGTERM, sets the returned event,
-    which ends the spin once the callback returns. Python's C handler also writes the
-    signal's number to the wakeup pipe at once, and a thread blocked reading that pipe arms
-    ``faulthandler``'s timer, so a main thread that never comes back from the executor is
-    ended too.
+    test run started that way, once it did not: the estimator spun on for 30 s).
+
+    SIGINT raises ``KeyboardInterrupt``, inside the running callback; with
+    ``interrupt_callbacks`` false it, like SIGTERM, sets the returned event, which ends the
+    spin once the callback returns. Python's C handler also writes the signal's number to
+    the wakeup pipe at once, and a thread blocked reading that pipe arms ``faulthandler``'s
+    timer, so a main thread that never comes back from the executor is ended too.
     """
     stop = threading.Event()
 
