@@ -40,6 +40,7 @@ from tether_bringup.errors import BagError
 from tether_common.command_line import Command
 from tether_common.command_line import UsageError
 from tether_common.command_line import analysis
+from tether_common.correlation import cross_correlation
 from tether_dynamics.clearance import above_deck
 from tether_dynamics.clearance import guide_height
 from tether_common.report_figures import ReportLines
@@ -151,13 +152,11 @@ def _lag(t: np.ndarray, measured: np.ndarray, theory: np.ndarray,
     and the correlation at each.
     """
     dt = float(np.median(np.diff(t)))
-    a = measured - measured.mean()
-    b = theory - theory.mean()
-    n = len(a)
+    n = len(measured)
     k = min(int(max_lag / dt), n // 2)
-    lags = np.arange(-k, k + 1)
-    corr = np.array([np.dot(a[max(0, l):n + min(0, l)], b[max(0, -l):n - max(0, l)]) for l in lags.tolist()])
-    corr /= np.sqrt(np.dot(a, a) * np.dot(b, b))
+    lags, corr = cross_correlation(theory, measured)
+    keep = np.abs(lags) <= k
+    lags, corr = lags[keep], corr[keep]
     return float(lags[np.argmax(corr)] * dt), lags * dt, corr
 
 

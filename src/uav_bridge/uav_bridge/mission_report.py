@@ -62,6 +62,7 @@ from tether_common.command_line import Command  # noqa: E402
 from tether_common.command_line import UsageError  # noqa: E402
 from tether_common.command_line import analysis  # noqa: E402
 from tether_dynamics.clearance import guide_height  # noqa: E402
+from tether_common.correlation import cross_correlation  # noqa: E402
 from tether_common.report_figures import ReportLines  # noqa: E402
 from tether_dynamics.plant_markers import reference_shape  # noqa: E402
 from tether_dynamics.statics.reference_length import reference_lengths  # noqa: E402
@@ -182,19 +183,6 @@ def _pad_track(bag: Bag, path: Path) -> np.ndarray | None:
         rotation = quaternion_rotation(np.array([q.x, q.y, q.z, q.w]), '/platform/reel_pose orientation')
         rows.append((_t(m), *(np.array([p.x, p.y, p.z]) + rotation.apply(offset))))
     return np.array(rows, dtype=float).reshape(-1, 4)
-
-
-def cross_correlation(x: np.ndarray, y: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Lags (samples) and the normalised cross-correlation ``Σ x_i y_(i+k) / (N σ_x σ_y)`` at every lag.
-
-    Means removed; 0 everywhere for a constant series.
-    """
-    x = np.asarray(x, dtype=float) - np.mean(x)
-    y = np.asarray(y, dtype=float) - np.mean(y)
-    n = len(x)
-    scale = n * np.std(x) * np.std(y)
-    corr = np.correlate(y, x, mode='full') / scale if scale > 0 else np.zeros(2 * n - 1)
-    return np.arange(-(n - 1), n), corr
 
 
 def shape_errors(positions: np.ndarray, arc_length: np.ndarray, n: int = SHAPE_POINTS) -> tuple[np.ndarray,
