@@ -11,7 +11,6 @@ silently ignored.
 
 from __future__ import annotations
 
-import importlib
 import signal
 import subprocess
 import sys
@@ -26,6 +25,8 @@ from rclpy.parameter import Parameter
 from rclpy.parameter_client import AsyncParameterClient
 
 from tether_bringup.recorder_params import PARAMETERS as RECORDER_PARAMETERS
+from tether_common.parameters import parameter_module
+from tether_common.parameters import specified_nodes
 
 NODES = Path(__file__).resolve().parent / 'nodes'
 SOURCES = Path(__file__).resolve().parent.parent / 'src'
@@ -42,7 +43,7 @@ BUILTIN_UAV = _program('uav_bridge', 'builtin_uav')
 FAST_PLATFORM = ['-p', 'table_steps:=60', '-p', 'profile_duration:=2.0', '-p', 'profile:=still']
 
 def _spec(package: str, executable: str, name: str):
-    specs = importlib.import_module(f'{package}.{executable}_params').PARAMETERS
+    specs = parameter_module(package, executable).PARAMETERS
     return next(spec for spec in specs if spec.name == name)
 
 
@@ -87,9 +88,15 @@ UNSPECIFIED = [
 
 
 def _specified_nodes() -> list[tuple[str, str]]:
-    """(package, executable) of every node with a ``<package>/<executable>_params.py``."""
-    return sorted((path.parent.name, path.stem.removesuffix('_params'))
-                  for path in SOURCES.glob('*/*/*_params.py') if path.parent.name == path.parent.parent.name)
+    """(package, executable) of every node whose package registers a parameters module."""
+    return sorted(specified_nodes())
+
+
+def test_every_parameters_module_is_registered():
+    """A ``*_params.py`` its package does not register would be a node the scene validator never checks."""
+    registered = {entry.value for entry in specified_nodes().values()}
+    files = {'.'.join(path.relative_to(SOURCES).with_suffix('').parts[1:]) for path in SOURCES.glob('*/*/**/*_params.py')}
+    assert files == registered
 
 
 def _bad_values(specs) -> list[tuple[str, object]]:
@@ -107,7 +114,7 @@ def _bad_values(specs) -> list[tuple[str, object]]:
 @pytest.mark.parametrize('package, executable', _specified_nodes())
 def test_every_specified_node_refuses_bad_values_in_one_line(ros_domain, tmp_path, package, executable):
     """Every node built on the shared declaration, present and future, answers the same way."""
-    specs = importlib.import_module(f'{package}.{executable}_params').PARAMETERS
+    specs = parameter_module(package, executable).PARAMETERS
     bad = _bad_values(specs)
     assert bad, f'{package}/{executable} has no ranged number or choice to try'
     for name, value in bad:

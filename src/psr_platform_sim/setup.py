@@ -22,6 +22,9 @@ setup(
         'console_scripts': [
             'platform = psr_platform_sim.platform_node:main',
         ],
+        'tethersim.parameters': [
+            'platform = psr_platform_sim.platform_params',
+        ],
         'tethersim.nodes': [
             'platform = psr_platform_sim.platform_node:PlatformNode',
         ],

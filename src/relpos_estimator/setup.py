@@ -24,6 +24,10 @@ setup(
             'sensors = relpos_estimator.sensors_node:main',
             'estimator = relpos_estimator.estimator_node:main',
         ],
+        'tethersim.parameters': [
+            'sensors = relpos_estimator.sensors_params',
+            'estimator = relpos_estimator.estimator_params',
+        ],
         'tethersim.nodes': [
             'sensors = relpos_estimator.sensors_node:SensorsNode',
             'estimator = relpos_estimator.estimator_node:EstimatorNode',

@@ -23,6 +23,9 @@ setup(
         'console_scripts': [
             'reel = smart_reel.reel_node:main',
         ],
+        'tethersim.parameters': [
+            'reel = smart_reel.reel_params',
+        ],
         'tethersim.nodes': [
             'reel = smart_reel.reel_node:ReelNode',
         ],

@@ -26,6 +26,9 @@ setup(
             'recorder = tether_bringup.recorder_node:main',
             'nodes = tether_bringup.node_group:main',
         ],
+        'tethersim.parameters': [
+            'recorder = tether_bringup.recorder_params',
+        ],
         'tethersim.commands': [
             'run = tether_bringup.cli:RUN',
             'replay = tether_bringup.cli:REPLAY',

@@ -22,6 +22,9 @@ setup(
         'console_scripts': [
             'plant = tether_dynamics.plant_node:main',
         ],
+        'tethersim.parameters': [
+            'plant = tether_dynamics.plant_params',
+        ],
         'tethersim.nodes': [
             'plant = tether_dynamics.plant_node:PlantNode',
         ],

@@ -26,6 +26,13 @@ setup(
             'builtin_uav = uav_bridge.builtin_uav_node:main',
             'json_physics = uav_bridge.json_physics_node:main',
         ],
+        'tethersim.parameters': [
+            'mavlink_bridge = uav_bridge.mavlink_bridge_params',
+            'mission = uav_bridge.mission_params',
+            'sitl = uav_bridge.sitl_params',
+            'builtin_uav = uav_bridge.builtin_uav_params',
+            'json_physics = uav_bridge.json_physics_params',
+        ],
         'tethersim.nodes': [
             'mission = uav_bridge.mission_node:MissionNode',
             'builtin_uav = uav_bridge.builtin_uav_node:BuiltinUavNode',

@@ -11,7 +11,6 @@ from __future__ import annotations
 import argparse
 import errno
 import socket
-import importlib
 import sys
 import time
 from pathlib import Path
@@ -167,12 +166,10 @@ def _check_pace(nodes, rate: float) -> None:
     ``pace_problem(parameters, rate)`` (the sitl node's SITL at a fixed speed-up) says why.
     """
     from tether_bringup.errors import SceneError
+    from tether_common.parameters import parameter_module
     for config in nodes:
-        if not config.package:
-            continue
-        try:
-            module = importlib.import_module(f'{config.package}.{config.executable}_params')
-        except ModuleNotFoundError:
+        module = parameter_module(config.package, config.executable) if config.package else None
+        if module is None:
             continue
         problem = getattr(module, 'pace_problem', lambda parameters, rate: None)(config.parameters, rate)
         if problem:

@@ -13,7 +13,7 @@ A scene is YAML::
       platform:               # node name
         package: psr_platform_sim
         executable: platform  # or `script: path/to/node.py`, relative to the scene file
-        parameters: {...}     # validated against <package>/<executable>_params.py
+        parameters: {...}     # validated against the node's registered PARAMETERS
         external: false       # true: started elsewhere (another machine), waited for, not started
         lockstep: true        # false: a node outside the lockstep barrier (driven by wall time or an
                               # external simulator, e.g. ArduPilot SITL); the run is then not reproducible
@@ -30,7 +30,6 @@ the key and what was expected.
 
 from __future__ import annotations
 
-import importlib
 import sys
 from dataclasses import dataclass
 from dataclasses import field
@@ -47,6 +46,7 @@ from tether_bringup.node_group import GROUP_NAME
 from tether_bringup.recorder_params import DEFAULT_EXCLUDE
 from tether_bringup.sim_clock import MAX_RATE
 from tether_common.parameters import ParamSpec
+from tether_common.parameters import parameter_module
 from tether_common.parameters import spec_table
 
 LOCKSTEP_WINDOW = 0.05
@@ -283,12 +283,9 @@ def _node_config(path: Path, name: object, settings: object, fail) -> NodeConfig
 
 
 def parameter_specs(package: str, executable: str) -> tuple[ParamSpec, ...] | None:
-    """The declared parameters of a node (``<package>.<executable>_params.PARAMETERS``); None without them."""
-    try:
-        module = importlib.import_module(f'{package}.{executable}_params')
-    except ModuleNotFoundError:
-        return None
-    return getattr(module, 'PARAMETERS', None)
+    """The declared parameters of a node (its registered parameters module's ``PARAMETERS``); None without them."""
+    module = parameter_module(package, executable)
+    return getattr(module, 'PARAMETERS', None) if module is not None else None
 
 
 def _is_ros_value(value: object) -> bool:

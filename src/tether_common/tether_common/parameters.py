@@ -1,7 +1,8 @@
 """Parameter specifications shared by a node and the scene validator.
 
-A node's parameters are written once, as a tuple of :class:`ParamSpec`, in a module of
-its package that does not import rclpy (``<package>/<executable>_params.py``). The node
+A node's parameters are written once, as a tuple of :class:`ParamSpec` named ``PARAMETERS``,
+in a module of its package that does not import rclpy, which the package registers under the
+``tethersim.parameters`` entry points as ``<executable> = <module>``. The node
 declares them with descriptors and ranges (:mod:`tether_common.ros_parameters`); the
 bringup validates a scene's values against the same specification before anything starts.
 """
@@ -10,10 +11,15 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
+from importlib.metadata import entry_points
 from pathlib import Path
+from types import ModuleType
 from typing import Any
 
 ParamValue = bool | int | float | str | list
+
+PARAMETERS_GROUP = 'tethersim.parameters'
+"""The entry-point group where a package names each node's parameters module: ``<executable> = <module>``."""
 
 
 @dataclass(frozen=True)
@@ -157,3 +163,15 @@ def spec_table(specs: tuple[ParamSpec, ...]) -> dict[str, ParamSpec]:
             raise ValueError(f'parameter {spec.name} is specified twice')
         table[spec.name] = spec
     return table
+
+
+def parameter_module(package: str, executable: str) -> ModuleType | None:
+    """The module holding the ``PARAMETERS`` of ``package``'s ``executable`` (None for a node without one)."""
+    entry = specified_nodes().get((package, executable))
+    return entry.load() if entry is not None else None
+
+
+def specified_nodes() -> dict[tuple[str, str], Any]:
+    """Every registered parameters module's entry point, by (package, executable); nothing imported."""
+    return {(entry.dist.name.replace('-', '_') if entry.dist else '', entry.name): entry
+            for entry in entry_points(group=PARAMETERS_GROUP)}
