@@ -20,9 +20,9 @@ from tether_msgs.msg import TetherState  # noqa: E402
 
 from json_sitl_peer_double import SitlJsonPeerDouble  # noqa: E402
 from sitl_process import claim_instance  # noqa: E402
-from tether_common.constants import GRAVITY  # noqa: E402
 from tether_common.qos import CLOCK  # noqa: E402
 from tether_common.qos import STATE  # noqa: E402
+from tether_models.constants import GRAVITY  # noqa: E402
 from test_uav_bridge_node import Probe  # noqa: E402
 from test_uav_bridge_node import ros_domain  # noqa: E402,F401 - fixture
 from test_uav_bridge_peer import wait_until  # noqa: E402

@@ -14,10 +14,10 @@ from scipy.spatial.transform import Rotation
 
 from json_sitl_peer_double import SitlJsonPeerDouble
 from json_sitl_peer_double import parse_sensors
-from tether_common.constants import GRAVITY
 from tether_dynamics.plant import PlantConfig
 from tether_dynamics.plant import TetherPlant
 from tether_dynamics.plant import UavConfig
+from tether_models.constants import GRAVITY
 from uav_bridge.json_physics import JsonPhysics
 from uav_bridge.json_physics import JsonPhysicsConfig
 from uav_bridge.json_physics_server import JsonPhysicsServer

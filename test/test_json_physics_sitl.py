@@ -25,10 +25,10 @@ import pytest
 from sitl_process import SitlProcess
 from sitl_process import connect_when_listening
 from sitl_process import sitl_unavailable
-from tether_common.constants import GRAVITY
 from tether_dynamics.plant import PlantConfig
 from tether_dynamics.plant import TetherPlant
 from tether_dynamics.plant import UavConfig
+from tether_models.constants import GRAVITY
 from uav_bridge.json_flight import HoldPlan
 from uav_bridge.json_flight import fly_and_hold
 from uav_bridge.json_physics import JsonPhysics

@@ -23,8 +23,8 @@ from mcap.reader import make_reader
 from mcap_ros2.decoder import DecoderFactory
 from rosbags.highlevel import AnyReader
 
-from tether_common.constants import GRAVITY
 from tether_dynamics.statics.catenary import THESIS_LINEAR_DENSITY
+from tether_models.constants import GRAVITY
 
 from tethersim_testing import bag_contents
 from tethersim_testing import busy_cores

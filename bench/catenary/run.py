@@ -26,8 +26,8 @@ from pycatenary import MooringLine
 from scipy.interpolate import RegularGridInterpolator
 from scipy.optimize import brentq
 
-from tether_common.constants import GRAVITY
 from tether_dynamics.statics import catenary, flying_space, heave_robustness, reference_length
+from tether_models.constants import GRAVITY
 
 LAMBDA = catenary.THESIS_LINEAR_DENSITY
 PEER_SUBSET = 400

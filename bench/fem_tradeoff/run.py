@@ -31,11 +31,11 @@ matplotlib.use('Agg')
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
-from tether_common.constants import GRAVITY  # noqa: E402
 from tether_dynamics.fem import diagnostics, scenes  # noqa: E402
 from tether_dynamics.fem.errors import DivergenceError  # noqa: E402
 from tether_dynamics.fem.integrators import simulate, warm_up  # noqa: E402
 from tether_dynamics.fem.model import compile_scene, stable_step  # noqa: E402
+from tether_models.constants import GRAVITY  # noqa: E402
 
 SPAN = 10.0
 SAMPLE = 0.01

@@ -33,8 +33,8 @@ matplotlib.use('Agg')
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
-from tether_common.constants import GRAVITY  # noqa: E402
 from tether_dynamics.plant import PlantConfig, PlantInputs, ReelConfig, TetherPlant, UavConfig  # noqa: E402
+from tether_models.constants import GRAVITY  # noqa: E402
 
 MU, EA, MASS, L0, TOTAL = 0.042, 2.0e4, 1.0, 5.0, 150.0
 G = GRAVITY

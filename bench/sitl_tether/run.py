@@ -29,11 +29,11 @@ from pathlib import Path
 
 import numpy as np
 
-from tether_common.constants import GRAVITY
 from tether_dynamics.plant import PlantConfig
 from tether_dynamics.plant import TetherPlant
 from tether_dynamics.plant import UavConfig
 from tether_dynamics.statics.catenary import THESIS_LINEAR_DENSITY
+from tether_models.constants import GRAVITY
 from uav_bridge.json_flight import FlightError
 from uav_bridge.json_flight import HoldPlan
 from uav_bridge.json_flight import fly_and_hold

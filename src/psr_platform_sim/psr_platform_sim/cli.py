@@ -171,10 +171,10 @@ def cmd_track(args: argparse.Namespace) -> list[str]:
     from psr_platform_sim.plots import tracking_figure
     from psr_platform_sim.simulator import PlatformSimulator
     from psr_platform_sim.validation import workspace_profile
-    from psr_platform_sim.waves import ProfileError
-    from psr_platform_sim.waves import named_profile
     from psr_platform_sim.workspace import ball_region
     from psr_platform_sim.workspace import cached_table
+    from tether_models.waves import ProfileError
+    from tether_models.waves import named_profile
 
     if args.steps < 50:
         raise UsageError(f'--steps must be at least 50, got {args.steps}')

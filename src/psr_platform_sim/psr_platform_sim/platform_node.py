@@ -37,10 +37,9 @@ from psr_platform_sim.platform_params import from_params
 from psr_platform_sim.simulator import PlatformSample
 from psr_platform_sim.simulator import PlatformSimulator
 from psr_platform_sim.simulator import platform_imu
-from psr_platform_sim.waves import ProfileError
+from tether_common.covariance import diagonal_3x3
 from tether_common.geometry_fill import fill_quaternion
 from tether_common.geometry_fill import fill_vector
-from tether_common.covariance import diagonal_3x3
 from tether_common.lockstep import Lockstep
 from tether_common.lockstep import Tick
 from tether_common.node_main import ConfigurationError
@@ -48,6 +47,7 @@ from tether_common.node_main import run_node
 from tether_common.qos import SENSOR
 from tether_common.qos import STATE
 from tether_common.ros_parameters import declare_parameters
+from tether_models.waves import ProfileError
 
 
 class PlatformNode(Node):

@@ -13,7 +13,7 @@ if TYPE_CHECKING:
     from psr_platform_sim.simulator import PlatformConfig
 
 PROFILES = ('jonswap', 'boat', 'hpr1', 'hpr2', 'hpr3', 'still', 'workspace')
-"""The named motion profiles (:func:`psr_platform_sim.waves.named_profile` and the workspace path)."""
+"""The named motion profiles (:func:`tether_models.waves.named_profile` and the workspace path)."""
 
 PARAMETERS: tuple[ParamSpec, ...] = (
     ParamSpec('r', 0.40, 'tower (rail) radius, prototype of Sec. 2.7', 'm', low=0.05, high=10.0, read_only=True),

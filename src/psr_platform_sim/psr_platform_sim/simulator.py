@@ -10,7 +10,7 @@ actuators visible: ``firmware`` moves each slider at a constant speed between co
 microsteps (``microstep`` m, 16:1 microstepping of Sec. 2.8). The achieved pose comes from the exact forward kinematics
 (Eq. 2.1-2.9) on a fine time grid; an IMU at the platform centre sees its angular
 velocity and specific force; its errors come from the shared IMU model
-(:class:`relpos_estimator.imu.ImuModel`, seeded white noise and constant bias here).
+(:class:`tether_models.imu.ImuModel`, seeded white noise and constant bias here).
 
 Frames (REP-103, REP-105 names): the thesis's mechanism frame has rail 1 - the
 platform's bow, corner 1 - on +y and the body axes x' (starboard), y' (bow, Eq. 2.5),
@@ -56,13 +56,13 @@ from psr_platform_sim.path import PathGenerator
 from psr_platform_sim.path import central_velocity
 from psr_platform_sim.path import limit_motion
 from psr_platform_sim.validation import workspace_profile
-from psr_platform_sim.waves import named_profile
 from psr_platform_sim.workspace import ball_region
 from psr_platform_sim.workspace import cached_table
 from psr_platform_sim.workspace import nominal_region
-from relpos_estimator.imu import ImuModel
-from relpos_estimator.imu import ImuSpec
-from tether_common.constants import GRAVITY
+from tether_models.constants import GRAVITY
+from tether_models.imu import ImuModel
+from tether_models.imu import ImuSpec
+from tether_models.waves import named_profile
 
 MECHANISM_TO_WORLD = np.array([[0.0, 1.0, 0.0], [-1.0, 0.0, 0.0], [0.0, 0.0, 1.0]])
 """Rz(-90 deg): mechanism-frame vectors to ``world``; also thesis body axes to FLU."""
@@ -121,7 +121,7 @@ class PlatformConfig:
 
     Attributes:
         design: the mechanism; ``ball_limit`` of pi means no ball-joint constraint.
-        profile: motion profile name or CSV path (:func:`psr_platform_sim.waves.named_profile`, ``workspace``).
+        profile: motion profile name or CSV path (:func:`tether_models.waves.named_profile`, ``workspace``).
         seed: seed of the generated wave phases.
         sea_state: Douglas sea state of the boat profile.
         boat_length: boat length of the boat profile, m.

@@ -11,9 +11,9 @@ import contourpy
 import numpy as np
 from scipy import ndimage
 
-from psr_platform_sim.waves import MotionProfile
 from psr_platform_sim.workspace import Region
 from psr_platform_sim.workspace import WorkspaceTable
+from tether_models.waves import MotionProfile
 
 
 def region_boundary(table: WorkspaceTable, region: Region) -> np.ndarray:

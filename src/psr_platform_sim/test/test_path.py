@@ -9,6 +9,7 @@ from psr_platform_sim.kinematics import platform_pose
 from psr_platform_sim.kinematics import solve_corners
 from psr_platform_sim.path import central_velocity
 from psr_platform_sim.path import limit_motion
+from tether_models.waves import named_profile
 
 
 def _poses_inside(generator, count, seed):
@@ -71,3 +72,12 @@ def test_motion_limits_bound_speed_and_acceleration():
     assert np.abs(speeds).max() <= 0.8 + 1e-12
     assert np.abs(np.diff(speeds, axis=0)).max() <= 3.0 * dt + 1e-12
     assert abs(achieved[-1, 0] - 1.0) < 1e-6
+
+
+def test_hpr_profile_stays_inside_the_workspace_after_clipping(prototype_generator):
+    profile = named_profile('hpr3', duration=60.0)
+    path = prototype_generator.sliders(profile.heave, profile.roll, profile.pitch, heave_limit=1.1)
+    assert path.inside.mean() > 0.9
+    relative = path.heights - path.heights[:, :1]
+    assert prototype_generator.in_region(relative).all()
+    assert np.abs(path.heave).max() <= 1.1

@@ -20,8 +20,8 @@ from psr_platform_sim.report import tracking_report
 from psr_platform_sim.simulator import PlatformSimulator
 from psr_platform_sim.simulator import thesis_to_boat
 from psr_platform_sim.simulator import thesis_to_rep103
-from psr_platform_sim.waves import boat_profile
-from tether_common.constants import GRAVITY
+from tether_models.constants import GRAVITY
+from tether_models.waves import boat_profile
 
 MSG = Path(__file__).resolve().parents[2] / 'tether_msgs' / 'msg' / 'PlatformState.msg'
 TYPE = 'tether_msgs/msg/PlatformState'

@@ -8,12 +8,12 @@ from scipy.spatial.transform import Rotation
 
 from psr_platform_sim.platform_params import PARAMETERS
 from psr_platform_sim.platform_params import from_params
-from psr_platform_sim.simulator import platform_imu
 from psr_platform_sim.simulator import PlatformSimulator
+from psr_platform_sim.simulator import platform_imu
 from psr_platform_sim.simulator import thesis_to_rep103
-from psr_platform_sim.waves import ProfileError
-from tether_common.constants import GRAVITY
 from tether_common.parameters import spec_table
+from tether_models.constants import GRAVITY
+from tether_models.waves import ProfileError
 
 
 def _params(tmp_path, **changes):

@@ -72,10 +72,10 @@ from typing import cast
 
 import numpy as np
 
-from relpos_estimator.dgps import STATUS_RTK_FIXED
-from relpos_estimator.dgps import Fix
 from relpos_estimator.kalman import Covariances
 from relpos_estimator.kalman import RelativeAltitudeFilter
+from tether_models.dgps import Fix
+from tether_models.dgps import STATUS_RTK_FIXED
 
 REASONS = {
     'nonfinite': 256,

@@ -31,7 +31,6 @@ from tether_msgs.msg import DgpsFix
 from tether_msgs.msg import FixRejection
 from tether_msgs.msg import RelativeEstimate
 
-from relpos_estimator.dgps import Fix
 from relpos_estimator.estimator import Estimate
 from relpos_estimator.estimator import Estimator
 from relpos_estimator.estimator_params import PARAMETERS
@@ -49,6 +48,7 @@ from tether_common.node_main import run_node
 from tether_common.qos import LOOP
 from tether_common.qos import STATE
 from tether_common.ros_parameters import declare_parameters
+from tether_models.dgps import Fix
 
 
 class EstimatorNode(Node):

@@ -6,8 +6,8 @@ import math
 
 import numpy as np
 
-from relpos_estimator.dgps import Fix
-from relpos_estimator.imu import vertical_acceleration
+from tether_models.dgps import Fix
+from tether_models.imu import vertical_acceleration
 
 
 def stamp_ns(stamp) -> int:

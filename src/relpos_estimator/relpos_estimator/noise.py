@@ -25,9 +25,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from relpos_estimator.dgps import STATUS_RTK_FIXED
 from relpos_estimator.kalman import Covariances
 from relpos_estimator.recorded import Recording
+from tether_models.dgps import STATUS_RTK_FIXED
 
 BIAS_BLOCK = 10.0
 """s, block length over which a channel's bias is taken as its mean error."""

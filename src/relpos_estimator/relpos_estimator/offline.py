@@ -1,9 +1,9 @@
 """Run the sensor suite and the estimator together without ROS, tick by tick, as the two nodes do.
 
 The nodes are thin wrappers of the same calls: the sensors node steps
-:class:`~relpos_estimator.sensors.SensorSuite` with the truth of each tick, the estimator
+:class:`~tether_models.sensor_suite.SensorSuite` with the truth of each tick, the estimator
 node turns each IMU sample into its world-vertical acceleration
-(:func:`~relpos_estimator.imu.vertical_acceleration`) and steps
+(:func:`~tether_models.imu.vertical_acceleration`) and steps
 :class:`~relpos_estimator.estimator.Estimator` with the fixes that arrived in the tick.
 """
 
@@ -15,14 +15,14 @@ from dataclasses import field
 
 import numpy as np
 
-from relpos_estimator.dgps import Fault
 from relpos_estimator.estimator import Estimate
 from relpos_estimator.estimator import Estimator
 from relpos_estimator.estimator import Rejection
-from relpos_estimator.imu import vertical_acceleration
-from relpos_estimator.sensors import ImuSample
-from relpos_estimator.sensors import SensorSuite
-from relpos_estimator.sensors import Truth
+from tether_models.dgps import Fault
+from tether_models.imu import vertical_acceleration
+from tether_models.sensor_suite import ImuSample
+from tether_models.sensor_suite import SensorSuite
+from tether_models.sensor_suite import Truth
 
 
 def imu_vertical(sample: ImuSample | None) -> float | None:

@@ -26,12 +26,12 @@ import numpy as np
 from tether_bringup.bag_reader import read_bag
 from tether_bringup.errors import BagError
 
-from relpos_estimator.dgps import STATUS_RTK_FIXED
-from relpos_estimator.dgps import Fix
 from relpos_estimator.estimator import Estimator
 from relpos_estimator.messages import fix_from_message
 from relpos_estimator.messages import imu_vertical
 from relpos_estimator.messages import stamp_ns
+from tether_models.dgps import Fix
+from tether_models.dgps import STATUS_RTK_FIXED
 
 TOPICS = ('/imu/reel', '/imu/uav', '/dgps/fix', '/truth/relative', '/sensors/faults')
 CLEAN_LATENCY = 0.05

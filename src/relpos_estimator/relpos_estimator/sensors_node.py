@@ -1,6 +1,6 @@
 """ROS 2 node ``sensors``: the reel computer's RTK dGPS and the two IMUs, simulated from ground truth.
 
-A thin wrapper around :class:`relpos_estimator.sensors.SensorSuite`. Inputs (truth):
+A thin wrapper around :class:`tether_models.sensor_suite.SensorSuite`. Inputs (truth):
 
 * ``/platform/reel_pose`` (geometry_msgs/PoseStamped, ``world``): the reel's position and
   attitude; its acceleration and angular velocity at tick t come from the poses at t - dt,
@@ -49,29 +49,29 @@ from tether_msgs.msg import PlatformState
 from tether_msgs.msg import RelativePosition
 from tether_msgs.msg import SensorFault
 
-from relpos_estimator.dgps import FAULT_KINDS
-from relpos_estimator.imu import ImuSpec
 from relpos_estimator.messages import split_ns
 from relpos_estimator.messages import stamp_ns
-from relpos_estimator.sensors import ImuSample
-from relpos_estimator.sensors import SensorSuite
-from relpos_estimator.sensors import SuiteOutput
-from relpos_estimator.sensors import Truth
 from relpos_estimator.sensors_params import PARAMETERS
 from relpos_estimator.sensors_params import configs
+from tether_common.covariance import diagonal_3x3
 from tether_common.geometry_fill import fill_quaternion
 from tether_common.geometry_fill import fill_vector
-from tether_common.covariance import diagonal_3x3
-from tether_common.node_main import ConfigurationError
-from tether_common.node_main import run_node
 from tether_common.lockstep import Input
 from tether_common.lockstep import Lockstep
 from tether_common.lockstep import Tick
+from tether_common.node_main import ConfigurationError
+from tether_common.node_main import run_node
 from tether_common.qos import SENSOR
 from tether_common.qos import STATE
+from tether_common.ros_parameters import declare_parameters
 from tether_common.rotation import quaternion_rotation
 from tether_common.rotation import rotation_vector_between
-from tether_common.ros_parameters import declare_parameters
+from tether_models.dgps import FAULT_KINDS
+from tether_models.imu import ImuSpec
+from tether_models.sensor_suite import ImuSample
+from tether_models.sensor_suite import SensorSuite
+from tether_models.sensor_suite import SuiteOutput
+from tether_models.sensor_suite import Truth
 
 INPUT_DEPTH = 1000
 """Subscription history of the unpaced inputs (fixes) and of test probes: nothing is lost while a consumer lags."""

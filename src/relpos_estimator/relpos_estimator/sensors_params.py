@@ -2,10 +2,10 @@
 
 from __future__ import annotations
 
-from relpos_estimator.dgps import DgpsConfig
-from relpos_estimator.imu import IMU_CLASSES
-from relpos_estimator.sensors import SuiteConfig
 from tether_common.parameters import ParamSpec
+from tether_models.dgps import DgpsConfig
+from tether_models.imu import IMU_CLASSES
+from tether_models.sensor_suite import SuiteConfig
 
 _D = DgpsConfig()
 _S = SuiteConfig()

@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from relpos_estimator.sensors import Truth
+from tether_models.sensor_suite import Truth
 
 
 def heave_truth(duration: float, seed: int = 0, rate: float = 100.0, altitude: float = 5.0):

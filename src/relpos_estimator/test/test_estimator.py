@@ -5,15 +5,15 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from relpos_estimator.dgps import STATUS_RTK_FIXED
-from relpos_estimator.dgps import DgpsConfig
-from relpos_estimator.dgps import Fix
 from relpos_estimator.estimator import Estimator
 from relpos_estimator.estimator_params import PARAMETERS
 from relpos_estimator.estimator_params import configs
 from relpos_estimator.offline import run
-from relpos_estimator.sensors import SensorSuite
-from relpos_estimator.sensors import SuiteConfig
+from tether_models.dgps import DgpsConfig
+from tether_models.dgps import Fix
+from tether_models.dgps import STATUS_RTK_FIXED
+from tether_models.sensor_suite import SensorSuite
+from tether_models.sensor_suite import SuiteConfig
 
 CLEAN = DgpsConfig(miss_rate=0.0, wild_rate=0.0)
 DURATION = 60.0

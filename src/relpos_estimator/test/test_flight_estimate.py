@@ -13,7 +13,6 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from relpos_estimator.dgps import DgpsConfig
 from relpos_estimator.estimator import Estimator
 from relpos_estimator.estimator_params import PARAMETERS
 from relpos_estimator.estimator_params import configs
@@ -21,11 +20,12 @@ from relpos_estimator.kalman import Covariances
 from relpos_estimator.noise import measured_covariances
 from relpos_estimator.offline import run
 from relpos_estimator.recorded import Recording
-from relpos_estimator.sensors import SensorSuite
-from relpos_estimator.sensors import SuiteConfig
-from relpos_estimator.sensors import Truth
 from tether_bringup.scene import find_scene
 from tether_bringup.scene import load_scene
+from tether_models.dgps import DgpsConfig
+from tether_models.sensor_suite import SensorSuite
+from tether_models.sensor_suite import SuiteConfig
+from tether_models.sensor_suite import Truth
 
 DURATION = 120.0
 RATE = 100.0

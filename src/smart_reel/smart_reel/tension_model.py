@@ -26,9 +26,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from tether_common.constants import GRAVITY
 from tether_dynamics.plant.quasi_static import end_tensions
 from tether_dynamics.plant.quasi_static import tension_a_slope
+from tether_models.constants import GRAVITY
 
 GUIDE = np.zeros(3)
 

@@ -35,15 +35,15 @@ from pathlib import Path
 import numpy as np
 from scipy.optimize import minimize
 
-from psr_platform_sim.waves import named_profile
 from smart_reel.controller import DiscretePid
 from smart_reel.reel import ReelInputs
 from smart_reel.reel import build_core
 from smart_reel.reel_params import PARAMETERS
 from tether_common.command_line import positive
-from tether_common.constants import GRAVITY
 from tether_dynamics.statics.catenary import tension_b_point
 from tether_dynamics.statics.reference_length import reference_length
+from tether_models.constants import GRAVITY
+from tether_models.waves import named_profile
 
 MIN_PHASE_MARGIN = 45.0
 """deg, of the sampled linear loop."""

@@ -7,8 +7,8 @@ import pytest
 from scipy.integrate import solve_ivp
 from scipy.optimize import fsolve
 
-from tether_common.constants import GRAVITY
 from tether_dynamics.statics import catenary
+from tether_models.constants import GRAVITY
 
 LG = catenary.THESIS_LINEAR_DENSITY * GRAVITY
 

@@ -34,12 +34,6 @@ def test_above_the_deck_adds_the_guide_height_to_the_plants_clearance_below_the_
     assert np.allclose(above_deck(np.array([-0.02, 1.0]), 0.3), [0.28, 1.3])
 
 
-def test_the_reels_default_guide_height_is_the_datums():
-    from smart_reel.reel_params import PARAMETERS
-
-    assert next(spec.default for spec in PARAMETERS if spec.name == 'guide_height') == GUIDE_HEIGHT
-
-
 def _tether_run(fidelity: str, elements: int, element_range: tuple[int, int]) -> TetherRun:
     empty = np.zeros(0)
     return TetherRun(t=empty, reel_end=empty, uav_end=empty, length=empty, tension_reel=empty, tension_uav=empty,

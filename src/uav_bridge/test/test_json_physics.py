@@ -8,8 +8,8 @@ import math
 import numpy as np
 import pytest
 
-from tether_common.constants import GRAVITY
 from tether_dynamics.plant import bodies
+from tether_models.constants import GRAVITY
 from uav_bridge import frames
 from uav_bridge.json_physics import JsonPhysics
 from uav_bridge.json_physics import JsonPhysicsConfig

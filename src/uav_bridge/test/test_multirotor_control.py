@@ -8,9 +8,9 @@ import numpy as np
 import pytest
 from scipy.spatial.transform import Rotation
 
-from tether_common.constants import GRAVITY
 from tether_dynamics.plant import bodies
 from tether_dynamics.plant.config import UavConfig
+from tether_models.constants import GRAVITY
 from uav_bridge.multirotor_control import StationController
 from uav_bridge.multirotor_control import UavBodyState
 

@@ -25,8 +25,8 @@ from dataclasses import dataclass
 import numpy as np
 from numba import njit
 
-from tether_common.constants import GRAVITY
 from tether_dynamics.plant import bodies
+from tether_models.constants import GRAVITY
 from uav_bridge.multirotor_control import StationController
 
 MODES = ('GUIDED', 'LAND')
@@ -41,7 +41,7 @@ class BuiltinUavConfig:
     attach_offset: tuple = (0.0, 0.0, -0.1)             # m, tether attachment from the CoM, body FLU
     start: tuple = (0.0, 0.0, 0.0)                      # m, CoM at rest on the ground, world
     start_height: float = 0.0                           # m above start hovering at t = 0 (armed, GUIDED); 0: landed
-    gravity: float = GRAVITY                            # m/s^2, the one g of tether_common.constants
+    gravity: float = GRAVITY                            # m/s^2, the one g of tether_models.constants
     dt: float = 1e-3                                    # s, body integration step
     land_speed: float = 0.5                             # m/s, LAND descent rate
     landed_below: float = 0.05                          # m above the start height counts as landed

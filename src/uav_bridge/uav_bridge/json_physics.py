@@ -43,8 +43,8 @@ from dataclasses import field
 
 import numpy as np
 
-from tether_common.constants import GRAVITY
 from tether_dynamics.plant import bodies
+from tether_models.constants import GRAVITY
 from uav_bridge import frames
 from uav_bridge.quad_motors import QuadXConfig
 from uav_bridge.quad_motors import QuadXMotors

@@ -51,9 +51,9 @@ from tether_common.node_main import ConfigurationError
 from tether_common.node_main import run_node
 from tether_common.qos import SENSOR
 from tether_common.qos import STATE
-from tether_common.constants import GRAVITY
 from tether_common.ros_parameters import declare_parameters
 from tether_common.rotation import quaternion_rotation
+from tether_models.constants import GRAVITY
 from uav_bridge.json_physics import JsonPhysics
 from uav_bridge.json_physics import JsonPhysicsConfig
 from uav_bridge.json_physics_params import PARAMETERS

@@ -24,7 +24,7 @@ import numpy as np  # noqa: E402
 
 from tether_bringup.bag_reader import read_bag  # noqa: E402
 from tether_bringup.run_directory import node_parameter  # noqa: E402
-from tether_common.constants import GRAVITY  # noqa: E402
+from tether_models.constants import GRAVITY  # noqa: E402
 from uav_bridge.json_physics_params import PARAMETERS as PHYSICS_PARAMETERS  # noqa: E402
 from uav_bridge.report import hold_interval  # noqa: E402
 from uav_bridge.report import read_flight  # noqa: E402

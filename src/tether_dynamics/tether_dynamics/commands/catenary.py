@@ -22,12 +22,12 @@ from pathlib import Path
 import numpy as np
 
 from tether_common.command_line import Command
-from tether_common.constants import GRAVITY
 from tether_common.command_line import OneLineParser
 from tether_common.command_line import UsageError
 from tether_common.command_line import analysis
 from tether_dynamics.commands import catenary_plots
 from tether_dynamics.statics import catenary, flying_space, heave_robustness, reference_length
+from tether_models.constants import GRAVITY
 
 PROG = 'tethersim catenary'
 QUICK_STEP = 2.5

@@ -7,11 +7,11 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.linalg
 
-from tether_common.constants import GRAVITY
 from tether_dynamics.fem import constraints, elements_linear, elements_quadratic, kernels
 from tether_dynamics.fem.effects import Drag, KelvinVoigt, Wind
 from tether_dynamics.fem.end_bodies import FarEnd, Pinned, PointMass, PrescribedMotion, RigidBody, StartEnd
 from tether_dynamics.fem.errors import FemError
+from tether_models.constants import GRAVITY
 
 ELEMENTS = {'linear': elements_linear, 'quadratic': elements_quadratic}
 RK4_STABILITY = 2.0 * np.sqrt(2.0)

@@ -10,10 +10,10 @@ from __future__ import annotations
 import numpy as np
 import scipy.linalg
 
-from tether_common.constants import GRAVITY
 from tether_dynamics.fem import constraints
 from tether_dynamics.fem.errors import FemError
 from tether_dynamics.fem.model import Tether
+from tether_models.constants import GRAVITY
 
 
 def _initial_guess(tether: Tether, start: np.ndarray, end: np.ndarray, gdir: np.ndarray) -> np.ndarray:

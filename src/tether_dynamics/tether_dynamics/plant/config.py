@@ -6,8 +6,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from tether_common.constants import GRAVITY
 from tether_dynamics.statics.catenary import THESIS_LINEAR_DENSITY
+from tether_models.constants import GRAVITY
 
 FIDELITIES = ('quasi_static', 'linear', 'quadratic')
 EFFECTS = ('drag', 'wind', 'damping')

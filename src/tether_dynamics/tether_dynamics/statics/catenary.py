@@ -28,7 +28,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from tether_common.constants import GRAVITY
+from tether_models.constants import GRAVITY
 
 THESIS_LINEAR_DENSITY = 0.042
 """Tether linear density λ (kg/m) of the thesis's flying-space analysis (Sec. 3.2.1)."""

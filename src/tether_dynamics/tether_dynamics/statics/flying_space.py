@@ -25,9 +25,9 @@ from typing import Any
 
 import numpy as np
 
-from tether_common.constants import GRAVITY
 from tether_common.golden_section import golden_section_minimum
 from tether_dynamics.statics import catenary, heave_robustness, reference_length
+from tether_models.constants import GRAVITY
 
 RISES = (0.05, 0.10, 0.20)
 """Tension rises over the slack tension that define L_rob5, L_rob10, L_rob20."""

@@ -26,8 +26,8 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.optimize import brentq
 
-from tether_common.constants import GRAVITY
 from tether_dynamics.statics import catenary
+from tether_models.constants import GRAVITY
 
 _BISECTIONS = 64
 

@@ -26,7 +26,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from tether_common.constants import GRAVITY
+from tether_models.constants import GRAVITY
 
 _MG = GRAVITY * 1e-3
 _DEG = math.pi / 180.0

@@ -28,7 +28,7 @@ from pathlib import Path
 
 import numpy as np
 
-from tether_common.constants import GRAVITY
+from tether_models.constants import GRAVITY
 
 SEA_STATES = {3: (0.5, 1.25), 4: (1.25, 2.5)}
 """Douglas sea scale: significant wave height range (m) per sea state."""

@@ -2,9 +2,9 @@
 
 One :class:`SensorSuite` holds the reel IMU (on the platform, ``boat`` frame), the UAV IMU
 (``uav`` frame, FLU, level: the UAV is taken near hover, thesis Sec. 4.4) and the RTK dGPS
-receiver (:mod:`relpos_estimator.dgps`). ``step(t, truth)`` takes the ground truth at tick
+receiver (:mod:`tether_models.dgps`). ``step(t, truth)`` takes the ground truth at tick
 ``t`` and returns the IMU samples of that tick, the dGPS messages that arrive by ``t`` and
-every fault injected. Optional stepper vibration (:mod:`relpos_estimator.actuator`) is
+every fault injected. Optional stepper vibration (:mod:`tether_models.stepper_vibration`) is
 added to the reel IMU's platform-normal axis. An IMU sample can be made non-finite
 (``imu_nonfinite_rate``), a fault the estimator must catch.
 
@@ -20,15 +20,15 @@ from dataclasses import field
 
 import numpy as np
 
-from relpos_estimator.actuator import StepperVibration
-from relpos_estimator.dgps import DgpsConfig
-from relpos_estimator.dgps import DgpsReceiver
-from relpos_estimator.dgps import Fault
-from relpos_estimator.dgps import Fix
-from relpos_estimator.imu import ImuModel
-from relpos_estimator.imu import imu_class
-from relpos_estimator.imu import specific_force
 from tether_common.rotation import matrix_to_quaternion
+from tether_models.dgps import DgpsConfig
+from tether_models.dgps import DgpsReceiver
+from tether_models.dgps import Fault
+from tether_models.dgps import Fix
+from tether_models.imu import ImuModel
+from tether_models.imu import imu_class
+from tether_models.imu import specific_force
+from tether_models.stepper_vibration import StepperVibration
 
 
 _LEVEL = np.eye(3)
