@@ -5,14 +5,14 @@ the boat playing HPR 3, the return over the pad and the landing on it. The run m
 the mission planned it (no abort), land on the pad, keep the landing's tension under the
 reel's reel-in trip limit, never foul the tether or trip the reel on station, and estimate
 the relative altitude within thesis Table 6.3's reach. Every figure is the mission report's
-(:func:`uav_bridge.mission_report.analyse`), read from the run's bag.
+(:func:`uav_bridge.mission.report.analyse`), read from the run's bag.
 """
 
 from __future__ import annotations
 
 import math
 
-from uav_bridge.mission_report import PAD_RADIUS
+from uav_bridge.mission.report import PAD_RADIUS
 
 DZ_RMSE_BOUND = 0.015
 """m, the in-flight estimator RMSE the default mission must keep (thesis Table 6.3: 8-12 mm)."""

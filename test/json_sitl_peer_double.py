@@ -22,8 +22,8 @@ from dataclasses import field
 
 import numpy as np
 
-from uav_bridge.sitl_json import ServoPacket
-from uav_bridge.sitl_json import encode_servo
+from uav_bridge.json_physics.protocol import ServoPacket
+from uav_bridge.json_physics.protocol import encode_servo
 
 _NUMBER = r'[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?|[-+]?(?:nan|inf)'
 _FLOAT = re.compile(r'\s*(' + _NUMBER + ')')

@@ -4,7 +4,7 @@ The binary is ``$ARDUPILOT_SITL_BIN`` or ``<repo>/../shared/sitl/arducopter`` (h
 one is in the README); ``copter.parm`` beside it gives the defaults. Each test takes a free
 instance number ``-I N`` (TCP 5760 + 10 N), held with a lock file for the test's duration so
 concurrent test runs never share ports, and runs SITL in its own temporary directory with
-:class:`uav_bridge.sitl_runner.SitlRunner`.
+:class:`uav_bridge.sitl.runner.SitlRunner`.
 """
 
 from __future__ import annotations
@@ -18,9 +18,9 @@ from pathlib import Path
 
 import psutil
 
-from uav_bridge.sitl_json import physics_port
-from uav_bridge.sitl_runner import SitlConfig
-from uav_bridge.sitl_runner import SitlRunner
+from uav_bridge.json_physics.protocol import physics_port
+from uav_bridge.sitl.runner import SitlConfig
+from uav_bridge.sitl.runner import SitlRunner
 
 ROOT = Path(__file__).resolve().parent.parent
 

@@ -24,8 +24,8 @@ from pathlib import Path
 
 import pytest
 
-from uav_bridge.mission_report import analyse
-from uav_bridge.mission_report import load_run
+from uav_bridge.mission.report import analyse
+from uav_bridge.mission.report import load_run
 
 from default_mission_checks import check_default_mission
 from tethersim_testing import tethersim

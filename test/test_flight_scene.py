@@ -8,8 +8,8 @@ import pytest
 from tether_bringup.bag_reader import read_bag
 from tethersim_testing import processes_of
 from tethersim_testing import tethersim
-from uav_bridge.mission_report import analyse
-from uav_bridge.mission_report import load_run
+from uav_bridge.mission.report import analyse
+from uav_bridge.mission.report import load_run
 
 DURATION = 12.0
 """s of sim time: the climb of 2 m to the station and a few seconds of station keeping."""

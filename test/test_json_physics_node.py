@@ -27,7 +27,7 @@ from test_uav_bridge_node import Probe  # noqa: E402
 from test_uav_bridge_node import ros_domain  # noqa: E402,F401 - fixture
 from test_uav_bridge_peer import wait_until  # noqa: E402
 from test_uav_mission_node import _start  # noqa: E402
-from uav_bridge.sitl_json import physics_port  # noqa: E402
+from uav_bridge.json_physics.protocol import physics_port  # noqa: E402
 
 FRAME_RATE = 800
 
@@ -56,7 +56,7 @@ class SitlThread:
 
 def test_sitl_advances_only_with_the_graph_clock(ros_domain):  # noqa: F811
     instance, lock = claim_instance()
-    process = _start('uav_bridge.json_physics_node', f'instance:={instance}', 'wrench_rate:=0.0',
+    process = _start('uav_bridge.json_physics.node', f'instance:={instance}', 'wrench_rate:=0.0',
                      'start:=[1.0, 2.0, 0.5]', domain=ros_domain)
     probe = Probe()
     clock = probe.node.create_publisher(Clock, '/clock', CLOCK)
@@ -108,7 +108,7 @@ def test_straight_line_pulls_toward_the_reel_with_its_weight_and_its_spring_beyo
     length; the UAV rests 8 m from the reel, the deployed length goes from 7.9 m (taut) to 20 m (slack).
     """
     instance, lock = claim_instance()
-    process = _start('uav_bridge.json_physics_node', f'instance:={instance}', 'tether_model:=straight_line',
+    process = _start('uav_bridge.json_physics.node', f'instance:={instance}', 'tether_model:=straight_line',
                      'start:=[8.0, 0.0, 0.5]', domain=ros_domain,
                      env=lockstep_master.environment('straight_line_probe', ['/json_physics']))
     sitl = SitlThread(physics_port(instance))

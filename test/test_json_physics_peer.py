@@ -18,11 +18,11 @@ from tether_dynamics.plant import PlantConfig
 from tether_dynamics.plant import TetherPlant
 from tether_dynamics.plant import UavConfig
 from tether_models.constants import GRAVITY
-from uav_bridge.json_physics import JsonPhysics
-from uav_bridge.json_physics import JsonPhysicsConfig
-from uav_bridge.json_physics_server import JsonPhysicsServer
-from uav_bridge.json_physics_server import PlantTether
-from uav_bridge.json_physics_server import resting_platform
+from uav_bridge.json_physics.model import JsonPhysics
+from uav_bridge.json_physics.model import JsonPhysicsConfig
+from uav_bridge.json_physics.server import JsonPhysicsServer
+from uav_bridge.json_physics.server import PlantTether
+from uav_bridge.json_physics.server import resting_platform
 
 
 @pytest.fixture

@@ -1,11 +1,11 @@
 """ArduCopter SITL (the real binary, ``--model JSON``) flies the tethered quad X of the JSON physics server.
 
-SITL sends its motor outputs to :class:`uav_bridge.json_physics_server.JsonPhysicsServer`
+SITL sends its motor outputs to :class:`uav_bridge.json_physics.server.JsonPhysicsServer`
 and waits for each reply, so the physics sets the pace (SITL's ``--speedup`` only caps it)
 and SITL's clock is the physics time. The MAVLink session of the bridge arms, takes off in
 GUIDED and holds station while the plant's quasi-static tether, anchored on a resting boat,
 pulls on the UAV. The physics and the session take turns in ticks of physics time
-(:func:`uav_bridge.json_flight.fly_and_hold`), so two flights at once, SITL capped at
+(:func:`uav_bridge.json_physics.flight.fly_and_hold`), so two flights at once, SITL capped at
 different speed-ups, must give the same frames to the bit. Skipped only where no SITL binary
 runs (see ``sitl_process.py``).
 
@@ -29,15 +29,15 @@ from tether_dynamics.plant import PlantConfig
 from tether_dynamics.plant import TetherPlant
 from tether_dynamics.plant import UavConfig
 from tether_models.constants import GRAVITY
-from uav_bridge.json_flight import HoldPlan
-from uav_bridge.json_flight import fly_and_hold
-from uav_bridge.json_physics import JsonPhysics
-from uav_bridge.json_physics import JsonPhysicsConfig
-from uav_bridge.json_physics_server import JsonPhysicsServer
-from uav_bridge.json_physics_server import PlantTether
-from uav_bridge.json_physics_server import resting_platform
-from uav_bridge.session import SessionConfig
-from uav_bridge.sitl_json import physics_port
+from uav_bridge.json_physics.flight import HoldPlan
+from uav_bridge.json_physics.flight import fly_and_hold
+from uav_bridge.json_physics.model import JsonPhysics
+from uav_bridge.json_physics.model import JsonPhysicsConfig
+from uav_bridge.json_physics.protocol import physics_port
+from uav_bridge.json_physics.server import JsonPhysicsServer
+from uav_bridge.json_physics.server import PlantTether
+from uav_bridge.json_physics.server import resting_platform
+from uav_bridge.mavlink.session import SessionConfig
 
 UNAVAILABLE = sitl_unavailable()
 pytestmark = [pytest.mark.skipif(UNAVAILABLE is not None, reason=UNAVAILABLE or ''), pytest.mark.long_run]

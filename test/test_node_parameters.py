@@ -93,9 +93,9 @@ def _specified_nodes() -> list[tuple[str, str]]:
 
 
 def test_every_parameters_module_is_registered():
-    """A ``*_params.py`` its package does not register would be a node the scene validator never checks."""
+    """A parameters module (``*params.py``) its package does not register would be a node the scene validator never checks."""
     registered = {entry.value for entry in specified_nodes().values()}
-    files = {'.'.join(path.relative_to(SOURCES).with_suffix('').parts[1:]) for path in SOURCES.glob('*/*/**/*_params.py')}
+    files = {'.'.join(path.relative_to(SOURCES).with_suffix('').parts[1:]) for path in SOURCES.glob('*/*/**/*params.py')}
     assert files == registered
 
 

@@ -38,8 +38,8 @@ from tethersim_testing import processes_of
 from tethersim_testing import tethersim
 from tethersim_testing import installed_scene
 from tethersim_testing import write_scene
-from uav_bridge.mission_report import analyse
-from uav_bridge.mission_report import load_run
+from uav_bridge.mission.report import analyse
+from uav_bridge.mission.report import load_run
 
 UNAVAILABLE = sitl_unavailable()
 pytestmark = [pytest.mark.skipif(UNAVAILABLE is not None, reason=UNAVAILABLE or ''), pytest.mark.long_run]

@@ -38,7 +38,7 @@ def sitl_double(tmp_path) -> Path:
 
 
 def test_a_killed_sitl_ends_the_node_with_its_cause_and_its_temporary_directory_removed(sitl_double, ros_domain):
-    node = subprocess.Popen([sys.executable, '-m', 'uav_bridge.sitl_node', '--ros-args', '-p', f'binary:={sitl_double}',
+    node = subprocess.Popen([sys.executable, '-m', 'uav_bridge.sitl.node', '--ros-args', '-p', f'binary:={sitl_double}',
                              '-p', 'instance:=59'], env=dict(os.environ, ROS_DOMAIN_ID=str(ros_domain)),
                             stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
     try:
@@ -63,7 +63,7 @@ def test_a_killed_sitl_ends_the_node_with_its_cause_and_its_temporary_directory_
 
 def test_a_sitl_found_dead_only_at_the_end_fails_the_node(sitl_double, ros_domain, tmp_path):
     rclpy = pytest.importorskip('rclpy')
-    from uav_bridge.sitl_node import SitlNode
+    from uav_bridge.sitl.node import SitlNode
     rclpy.init(args=['--ros-args', '-p', f'binary:={sitl_double}', '-p', 'instance:=59', '-p',
                      f'workdir:={tmp_path / "kept"}'])
     try:
@@ -107,7 +107,7 @@ def test_a_pace_sitl_cannot_follow_is_refused_in_one_line(rate, tmp_path):
 
 
 def test_the_pace_of_sitl_on_the_json_physics_is_the_graphs():
-    from uav_bridge.sitl_params import pace_problem
+    from uav_bridge.sitl.params import pace_problem
     assert pace_problem({'speedup': 4.0}, 4.0) is None
     assert pace_problem({'speedup': 4.0}, 4.5) is not None
     assert pace_problem({'speedup': 100.0, 'model': 'JSON:127.0.0.1'}, float('inf')) is None

@@ -13,7 +13,7 @@ import pytest
 from sitl_process import SitlProcess
 from sitl_process import connect_when_listening
 from sitl_process import sitl_unavailable
-from uav_bridge.sitl_parameter_check import check_parameters
+from uav_bridge.sitl.parameter_check import check_parameters
 
 UNAVAILABLE = sitl_unavailable()
 pytestmark = pytest.mark.skipif(UNAVAILABLE is not None, reason=UNAVAILABLE or '')

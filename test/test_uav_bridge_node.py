@@ -6,13 +6,14 @@ import math
 import os
 import signal
 import subprocess
-import sys
 import threading
+from pathlib import Path
 
 import pytest
 
 rclpy = pytest.importorskip('rclpy')
 
+from ament_index_python.packages import get_package_prefix  # noqa: E402
 from geometry_msgs.msg import PoseStamped  # noqa: E402
 from geometry_msgs.msg import TwistStamped  # noqa: E402
 from rcl_interfaces.msg import Log  # noqa: E402
@@ -40,7 +41,8 @@ ORIGIN = (1.0, 2.0, 0.5)
 def _start_bridge(*params, domain):
     env = dict(os.environ, ROS_DOMAIN_ID=str(domain))
     args = [arg for param in params for arg in ('-p', param)]
-    return subprocess.Popen([sys.executable, '-m', 'uav_bridge.mavlink_bridge', '--ros-args', *args], env=env,
+    bridge = Path(get_package_prefix('uav_bridge')) / 'lib' / 'uav_bridge' / 'mavlink_bridge'
+    return subprocess.Popen([str(bridge), '--ros-args', *args], env=env,
                             stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
 
 
@@ -184,7 +186,7 @@ def test_command_topic_without_the_lockstep_exits_2_with_one_line(ros_domain):
     process = _start_bridge('command_rate:=10.0', domain=ros_domain)
     _, err = process.communicate(timeout=60)
     assert process.returncode == 2 and 'Traceback' not in err
-    assert err.strip().splitlines() == ['mavlink_bridge.py: error: parameter command_rate: /uav/command is a lockstep '
+    assert err.strip().splitlines() == ['mavlink_bridge: error: parameter command_rate: /uav/command is a lockstep '
                                         'input, taken only with lockstep_input (SITL on the JSON physics); 0 for '
                                         'services']
 

@@ -15,11 +15,11 @@ import pytest
 from scipy.spatial.transform import Rotation
 
 from mavlink_peer_double import ArduCopterPeerDouble
-from uav_bridge import telemetry
 from uav_bridge.frames import euler_ned_to_quaternion_enu
-from uav_bridge.session import STREAM_IDS
-from uav_bridge.session import MavlinkSession
-from uav_bridge.session import SessionConfig
+from uav_bridge.mavlink import telemetry
+from uav_bridge.mavlink.session import MavlinkSession
+from uav_bridge.mavlink.session import STREAM_IDS
+from uav_bridge.mavlink.session import SessionConfig
 
 ORIGIN = (100.0, -50.0, 1.5)
 

@@ -15,10 +15,10 @@ from sitl_process import SitlProcess
 from sitl_process import sitl_unavailable
 from test_uav_bridge_peer import Collector
 from test_uav_bridge_peer import wait_until
-from uav_bridge import telemetry
-from uav_bridge.session import STREAM_IDS
-from uav_bridge.session import MavlinkSession
-from uav_bridge.session import SessionConfig
+from uav_bridge.mavlink import telemetry
+from uav_bridge.mavlink.session import MavlinkSession
+from uav_bridge.mavlink.session import STREAM_IDS
+from uav_bridge.mavlink.session import SessionConfig
 
 UNAVAILABLE = sitl_unavailable()
 pytestmark = pytest.mark.skipif(UNAVAILABLE is not None, reason=UNAVAILABLE or '')

@@ -82,9 +82,9 @@ def publish_clock_wrench_and_reel(probe, pull: WrenchStamped, reel: ReelState, m
 
 def test_mission_flies_the_builtin_uav_against_a_tether_pull(ros_domain):  # noqa: F811
     processes = [
-        _start('uav_bridge.builtin_uav_node', 'start:=[0.0, 0.0, 0.3]', 'tether_force:=topic', 'command_rate:=10.0',
+        _start('uav_bridge.builtin.node', 'start:=[0.0, 0.0, 0.3]', 'tether_force:=topic', 'command_rate:=10.0',
                domain=ros_domain, env=members_env('builtin_uav', 'mission')),
-        _start('uav_bridge.mission_node', 'altitude:=5.0', 'radial:=2.5', 'retry_period:=0.5', 'reel_rate:=100.0',
+        _start('uav_bridge.mission.node', 'altitude:=5.0', 'radial:=2.5', 'retry_period:=0.5', 'reel_rate:=100.0',
                'return_speed:=1.0', 'return_height:=2.0', domain=ros_domain, env=members_env('builtin_uav', 'mission'))]
     probe = Probe()
     pull = WrenchStamped()
@@ -121,9 +121,9 @@ def test_a_uav_that_does_not_take_the_command_topic_stops_the_mission_with_one_l
     """The built-in UAV without command_rate serves only its services: the mission's first request is not answered
     on /uav/state within 1 s of sim time, and the mission ends naming the mismatch instead of waiting for ever.
     """
-    uav = _start('uav_bridge.builtin_uav_node', 'start:=[0.0, 0.0, 0.3]', 'tether_force:=topic', domain=ros_domain,
+    uav = _start('uav_bridge.builtin.node', 'start:=[0.0, 0.0, 0.3]', 'tether_force:=topic', domain=ros_domain,
                  env=members_env('builtin_uav', 'mission'))
-    mission = _start('uav_bridge.mission_node', 'reel_rate:=100.0', domain=ros_domain,
+    mission = _start('uav_bridge.mission.node', 'reel_rate:=100.0', domain=ros_domain,
                      env=members_env('builtin_uav', 'mission'))
     probe = Probe()
     publish_clock_wrench_and_reel(probe, WrenchStamped(), ReelState(), ['builtin_uav', 'mission'])
@@ -142,7 +142,7 @@ def test_by_hand_the_services_and_the_setpoint_topic_fly_it(ros_domain):  # noqa
     """Without a mission (command_rate 0) the built-in UAV answers the bridge's services and follows /uav/setpoint,
     as a user calling them with ``ros2 service call`` and ``ros2 topic pub`` would.
     """
-    uav = _start('uav_bridge.builtin_uav_node', 'start:=[0.0, 0.0, 0.3]', domain=ros_domain,
+    uav = _start('uav_bridge.builtin.node', 'start:=[0.0, 0.0, 0.3]', domain=ros_domain,
                  env=members_env('builtin_uav'))
     probe = Probe()
     publish_clock_wrench_and_reel(probe, WrenchStamped(), ReelState(), ['builtin_uav'])

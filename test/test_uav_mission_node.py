@@ -76,9 +76,9 @@ def _position(pose) -> tuple[float, float, float]:
 def test_mission_holds_station_and_on_a_reel_trip_returns_over_the_pad_and_lands_there(ros_domain):  # noqa: F811
     peer = ArduCopterPeerDouble(speedup=5.0, ekf_delay=20.0).start()
     processes = [
-        _start('uav_bridge.mavlink_bridge', f'url:=tcp:127.0.0.1:{peer.port}', 'pose_rate:=20.0', 'imu_rate:=5.0',
+        _start('uav_bridge.mavlink.bridge_node', f'url:=tcp:127.0.0.1:{peer.port}', 'pose_rate:=20.0', 'imu_rate:=5.0',
                'global_rate:=1.0', 'link_timeout:=1.0', domain=ros_domain),
-        _start('uav_bridge.mission_node', 'altitude:=5.0', 'radial:=2.5', 'bearing:=90.0', 'retry_period:=0.5',
+        _start('uav_bridge.mission.node', 'altitude:=5.0', 'radial:=2.5', 'bearing:=90.0', 'retry_period:=0.5',
                'uav_link:=services', 'return_speed:=1.0', 'return_height:=2.0', 'pad:=[0.0, 0.5]',
                domain=ros_domain)]
     probe = Probe()
@@ -120,7 +120,7 @@ def test_a_service_server_killed_mid_call_times_the_mission_out_and_it_ends_clea
         [sys.executable, str(Path(__file__).parent / 'nodes' / 'uav_services_double.py'), '--ros-args', '-p',
          f'called_file:={called}'], env=dict(os.environ, ROS_DOMAIN_ID=str(ros_domain)), stdout=subprocess.PIPE,
         stderr=subprocess.PIPE, text=True)
-    mission = _start('uav_bridge.mission_node', 'uav_link:=services', 'service_timeout:=2.0', 'retry_period:=0.5',
+    mission = _start('uav_bridge.mission.node', 'uav_link:=services', 'service_timeout:=2.0', 'retry_period:=0.5',
                      domain=ros_domain)
     probe = Probe()
     publish_clock(probe)

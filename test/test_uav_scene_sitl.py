@@ -13,7 +13,7 @@ from tethersim_testing import processes_of
 from tethersim_testing import tethersim
 from tethersim_testing import installed_scene
 from tethersim_testing import write_scene
-from uav_bridge.report import read_flight
+from uav_bridge.mission.flight_report import read_flight
 
 UNAVAILABLE = sitl_unavailable()
 pytestmark = [pytest.mark.skipif(UNAVAILABLE is not None, reason=UNAVAILABLE or ''), pytest.mark.long_run]

@@ -3,16 +3,16 @@
 Run: ``ARDUPILOT_SITL_BIN=/path/to/arducopter ./tethersim-env python bench/sitl_tether/run.py``
 
 The same mission twice, flown by the real ArduCopter SITL over its JSON interface
-(:mod:`uav_bridge.json_flight`): take off in GUIDED from a pad ``--radial`` m from the boat's
+(:mod:`uav_bridge.json_physics.flight`): take off in GUIDED from a pad ``--radial`` m from the boat's
 guide way and hold ``--altitude`` m above it for ``--hold`` s while the boat heaves
 sinusoidally (``--heave`` m amplitude, ``--heave-period`` s: a stand-in for the HPR profiles,
 which need the graph). The UAV's tether is
 
 * ``plant``: the plant's quasi-static elastic catenary of the deployed length (fixed here),
-  guide way on the heaving boat (:class:`uav_bridge.json_physics_server.PlantTether`);
+  guide way on the heaving boat (:class:`uav_bridge.json_physics.server.PlantTether`);
 * ``straight``: ArduPilot's SIM_Tether model, a straight line carrying its whole weight
   mu |d| g along itself, a spring-damper beyond the length
-  (:class:`uav_bridge.json_physics_server.StraightTether`).
+  (:class:`uav_bridge.json_physics.server.StraightTether`).
 
 Both with the thesis's tether (0.042 kg/m) and the same deployed length. Printed per model:
 frames, position-hold error about the hold point (horizontal and vertical, RMS and max),
@@ -34,21 +34,21 @@ from tether_dynamics.plant import TetherPlant
 from tether_dynamics.plant import UavConfig
 from tether_dynamics.statics.catenary import THESIS_LINEAR_DENSITY
 from tether_models.constants import GRAVITY
-from uav_bridge.json_flight import FlightError
-from uav_bridge.json_flight import HoldPlan
-from uav_bridge.json_flight import fly_and_hold
-from uav_bridge.json_physics import JsonPhysics
-from uav_bridge.json_physics import JsonPhysicsConfig
-from uav_bridge.json_physics_server import JsonPhysicsServer
-from uav_bridge.json_physics_server import PlantTether
-from uav_bridge.json_physics_server import StraightTether
-from uav_bridge.json_physics_server import heaving_platform
-from uav_bridge.session import SessionConfig
-from uav_bridge.sitl_json import physics_port
-from uav_bridge.sitl_runner import SitlConfig
-from uav_bridge.sitl_runner import SitlError
-from uav_bridge.sitl_runner import SitlRunner
-from uav_bridge.sitl_runner import locate_binary
+from uav_bridge.json_physics.flight import FlightError
+from uav_bridge.json_physics.flight import HoldPlan
+from uav_bridge.json_physics.flight import fly_and_hold
+from uav_bridge.json_physics.model import JsonPhysics
+from uav_bridge.json_physics.model import JsonPhysicsConfig
+from uav_bridge.json_physics.protocol import physics_port
+from uav_bridge.json_physics.server import JsonPhysicsServer
+from uav_bridge.json_physics.server import PlantTether
+from uav_bridge.json_physics.server import StraightTether
+from uav_bridge.json_physics.server import heaving_platform
+from uav_bridge.mavlink.session import SessionConfig
+from uav_bridge.sitl.runner import SitlConfig
+from uav_bridge.sitl.runner import SitlError
+from uav_bridge.sitl.runner import SitlRunner
+from uav_bridge.sitl.runner import locate_binary
 
 FRAME_RATE = 800
 GUIDE_WAY = (0.0, 0.0, 0.5)         # m, guide way above the boat origin (the plant's default offset)

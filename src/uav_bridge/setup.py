@@ -20,25 +20,25 @@ setup(
     extras_require={'test': ['pytest']},
     entry_points={
         'console_scripts': [
-            'mavlink_bridge = uav_bridge.mavlink_bridge:main',
-            'mission = uav_bridge.mission_node:main',
-            'sitl = uav_bridge.sitl_node:main',
-            'builtin_uav = uav_bridge.builtin_uav_node:main',
-            'json_physics = uav_bridge.json_physics_node:main',
+            'mavlink_bridge = uav_bridge.mavlink.bridge_node:main',
+            'mission = uav_bridge.mission.node:main',
+            'sitl = uav_bridge.sitl.node:main',
+            'builtin_uav = uav_bridge.builtin.node:main',
+            'json_physics = uav_bridge.json_physics.node:main',
         ],
         'tethersim.parameters': [
-            'mavlink_bridge = uav_bridge.mavlink_bridge_params',
-            'mission = uav_bridge.mission_params',
-            'sitl = uav_bridge.sitl_params',
-            'builtin_uav = uav_bridge.builtin_uav_params',
-            'json_physics = uav_bridge.json_physics_params',
+            'mavlink_bridge = uav_bridge.mavlink.bridge_params',
+            'mission = uav_bridge.mission.params',
+            'sitl = uav_bridge.sitl.params',
+            'builtin_uav = uav_bridge.builtin.params',
+            'json_physics = uav_bridge.json_physics.params',
         ],
         'tethersim.nodes': [
-            'mission = uav_bridge.mission_node:MissionNode',
-            'builtin_uav = uav_bridge.builtin_uav_node:BuiltinUavNode',
+            'mission = uav_bridge.mission.node:MissionNode',
+            'builtin_uav = uav_bridge.builtin.node:BuiltinUavNode',
         ],
         'tethersim.reports': [
-            'mission = uav_bridge.mission_report:COMMAND',
+            'mission = uav_bridge.mission.report:COMMAND',
         ],
     },
 )

@@ -10,7 +10,7 @@ os.environ.setdefault('MAVLINK20', '1')
 
 from pymavlink.dialects.v20 import ardupilotmega as mavlink  # noqa: E402
 
-from uav_bridge.autopilot_state import AutopilotState  # noqa: E402
+from uav_bridge.mavlink.autopilot_state import AutopilotState  # noqa: E402
 
 ARMED = 128
 CUSTOM = 1

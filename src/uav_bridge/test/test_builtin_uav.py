@@ -9,8 +9,8 @@ import sys
 import numpy as np
 import pytest
 
-from uav_bridge.builtin_uav import BuiltinUav
-from uav_bridge.builtin_uav import BuiltinUavConfig
+from uav_bridge.builtin.uav import BuiltinUav
+from uav_bridge.builtin.uav import BuiltinUavConfig
 
 
 def _run(uav, t0, t1, force, rate=100.0):
@@ -126,7 +126,8 @@ def test_a_landing_beside_the_pad_comes_down_on_the_level_ground():
 WARM_UP_PROBE = r'''
 import json
 import numpy as np
-from uav_bridge import builtin_uav, multirotor_control
+from uav_bridge.builtin import multirotor_control
+from uav_bridge.builtin import uav as builtin_uav
 uav = builtin_uav.BuiltinUav(builtin_uav.BuiltinUavConfig(start=(15.0, 0.0, 0.0), start_height=28.0))
 def compiled():
     return [len(builtin_uav._fly.signatures), len(multirotor_control._control.signatures)]

@@ -11,19 +11,19 @@ import pytest
 from tether_dynamics.plant import bodies
 from tether_models.constants import GRAVITY
 from uav_bridge import frames
-from uav_bridge.json_physics import JsonPhysics
-from uav_bridge.json_physics import JsonPhysicsConfig
-from uav_bridge.json_physics import UavFrame
-from uav_bridge.json_physics_server import StraightTether
-from uav_bridge.json_physics_server import heaving_platform
-from uav_bridge.quad_motors import QuadXConfig
-from uav_bridge.quad_motors import QuadXMotors
-from uav_bridge.sitl_json import MAGIC_16
-from uav_bridge.sitl_json import MAGIC_32
-from uav_bridge.sitl_json import ServoPacket
-from uav_bridge.sitl_json import SitlJsonError
-from uav_bridge.sitl_json import encode_servo
-from uav_bridge.sitl_json import parse_servo
+from uav_bridge.json_physics.model import JsonPhysics
+from uav_bridge.json_physics.model import JsonPhysicsConfig
+from uav_bridge.json_physics.model import UavFrame
+from uav_bridge.json_physics.protocol import MAGIC_16
+from uav_bridge.json_physics.protocol import MAGIC_32
+from uav_bridge.json_physics.protocol import ServoPacket
+from uav_bridge.json_physics.protocol import SitlJsonError
+from uav_bridge.json_physics.protocol import encode_servo
+from uav_bridge.json_physics.protocol import parse_servo
+from uav_bridge.json_physics.quad_motors import QuadXConfig
+from uav_bridge.json_physics.quad_motors import QuadXMotors
+from uav_bridge.json_physics.server import StraightTether
+from uav_bridge.json_physics.server import heaving_platform
 
 G = GRAVITY
 

@@ -7,11 +7,11 @@ import math
 import numpy as np
 import pytest
 
-from uav_bridge.mission import Inputs
-from uav_bridge.mission import MissionConfig
-from uav_bridge.mission import MissionLogic
-from uav_bridge.mission import TripMonitor
-from uav_bridge.mission_node import land_time
+from uav_bridge.mission.logic import Inputs
+from uav_bridge.mission.logic import MissionConfig
+from uav_bridge.mission.logic import MissionLogic
+from uav_bridge.mission.logic import TripMonitor
+from uav_bridge.mission.node import land_time
 
 GROUND = np.array([0.0, 0.0, 0.0])
 

@@ -10,10 +10,10 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from uav_bridge.mission_report import Run
-from uav_bridge.mission_report import analyse
-from uav_bridge.mission_report import figures
-from uav_bridge.mission_report import summary_lines
+from uav_bridge.mission.report import Run
+from uav_bridge.mission.report import analyse
+from uav_bridge.mission.report import figures
+from uav_bridge.mission.report import summary_lines
 
 STATION = (15.0, 0.0, 30.0)
 LANDING = 60.0

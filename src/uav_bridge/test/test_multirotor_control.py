@@ -11,8 +11,8 @@ from scipy.spatial.transform import Rotation
 from tether_dynamics.plant import bodies
 from tether_dynamics.plant.config import UavConfig
 from tether_models.constants import GRAVITY
-from uav_bridge.multirotor_control import StationController
-from uav_bridge.multirotor_control import UavBodyState
+from uav_bridge.builtin.multirotor_control import StationController
+from uav_bridge.builtin.multirotor_control import UavBodyState
 
 STATION = np.array([15.0, 0.0, 30.0])
 

@@ -5,11 +5,11 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from uav_bridge.report import Outage
-from uav_bridge.report import clip_to_outages
-from uav_bridge.report import hold_interval
-from uav_bridge.report import link_outages
-from uav_bridge.report import station_keeping
+from uav_bridge.mission.flight_report import Outage
+from uav_bridge.mission.flight_report import clip_to_outages
+from uav_bridge.mission.flight_report import hold_interval
+from uav_bridge.mission.flight_report import link_outages
+from uav_bridge.mission.flight_report import station_keeping
 
 
 def test_station_keeping_of_a_circle_with_heave():

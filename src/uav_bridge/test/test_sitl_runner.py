@@ -6,10 +6,10 @@ from pathlib import Path
 
 import pytest
 
-from uav_bridge.sitl_runner import SitlConfig
-from uav_bridge.sitl_runner import SitlError
-from uav_bridge.sitl_runner import SitlRunner
-from uav_bridge.sitl_runner import locate_binary
+from uav_bridge.sitl.runner import SitlConfig
+from uav_bridge.sitl.runner import SitlError
+from uav_bridge.sitl.runner import SitlRunner
+from uav_bridge.sitl.runner import locate_binary
 
 
 def test_command_line_and_port(tmp_path):

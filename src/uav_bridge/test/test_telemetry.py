@@ -13,8 +13,8 @@ os.environ.setdefault('MAVLINK20', '1')
 
 from pymavlink.dialects.v20 import ardupilotmega as mavlink  # noqa: E402
 
-from uav_bridge import telemetry  # noqa: E402
 from uav_bridge.frames import quaternion_enu_to_yaw_ned  # noqa: E402
+from uav_bridge.mavlink import telemetry  # noqa: E402
 
 ENCODER = mavlink.MAVLink(None, 1, 1)
 

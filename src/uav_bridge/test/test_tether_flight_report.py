@@ -13,7 +13,7 @@ from tether_msgs.msg import MissionState  # noqa: E402
 
 from tether_bringup.bag_writer import BagWriter  # noqa: E402
 from tether_bringup.bag_writer import QosRecord  # noqa: E402
-from uav_bridge.tether_flight_report import tether_flight_report  # noqa: E402
+from uav_bridge.json_physics.tether_flight_report import tether_flight_report  # noqa: E402
 
 
 def _stamped(msg, t):

@@ -9,12 +9,12 @@ errors) and ``<run>_clearance.png`` (lowest point above deck and sea), and a tab
 figures beside the thesis's.
 
 Definitions. Every statistic is taken over the station-keeping window: from
-:data:`uav_bridge.report.SETTLE` after the UAV's first arrival within
-:data:`uav_bridge.report.ARRIVAL` of the station during the mission's ``hold`` phase to the
-phase's end (:func:`uav_bridge.report.hold_interval`), where the landing starts: the return
+:data:`uav_bridge.mission.flight_report.SETTLE` after the UAV's first arrival within
+:data:`uav_bridge.mission.flight_report.ARRIVAL` of the station during the mission's ``hold`` phase to the
+phase's end (:func:`uav_bridge.mission.flight_report.hold_interval`), where the landing starts: the return
 over the pad at the end of the scene (``/mission/state`` phase ``return``), or the descent
 at once on a reel trip (phase ``land``), or the first loss of the autopilot's link, reboot
-or gap in ``/uav/pose`` in it (:func:`uav_bridge.report.clip_to_outages`; each is listed).
+or gap in ``/uav/pose`` in it (:func:`uav_bridge.mission.flight_report.clip_to_outages`; each is listed).
 The fouling figures and the reel's safety trips cover the flight up to the landing: a UAV
 landing beside the boat lays its tether on the sea. The landing's own trips, peak tensions
 and fouled time are given on a line of their own.
@@ -61,20 +61,20 @@ from tether_bringup.run_directory import node_parameter  # noqa: E402
 from tether_common.command_line import Command  # noqa: E402
 from tether_common.command_line import UsageError  # noqa: E402
 from tether_common.command_line import analysis  # noqa: E402
-from tether_dynamics.clearance import guide_height  # noqa: E402
 from tether_common.correlation import cross_correlation  # noqa: E402
 from tether_common.report_figures import ReportLines  # noqa: E402
+from tether_common.rotation import quaternion_rotation  # noqa: E402
+from tether_dynamics.clearance import guide_height  # noqa: E402
 from tether_dynamics.plant_markers import reference_shape  # noqa: E402
 from tether_dynamics.statics.reference_length import reference_lengths  # noqa: E402
-from tether_common.rotation import quaternion_rotation  # noqa: E402
-from uav_bridge.report import ARRIVAL  # noqa: E402
-from uav_bridge.report import SETTLE  # noqa: E402
-from uav_bridge.report import THESIS_INDOOR  # noqa: E402
-from uav_bridge.report import clip_to_outages  # noqa: E402
-from uav_bridge.report import hold_interval  # noqa: E402
-from uav_bridge.report import link_outages  # noqa: E402
-from uav_bridge.report import outage_lines  # noqa: E402
-from uav_bridge.report import station_keeping  # noqa: E402
+from uav_bridge.mission.flight_report import ARRIVAL  # noqa: E402
+from uav_bridge.mission.flight_report import SETTLE  # noqa: E402
+from uav_bridge.mission.flight_report import THESIS_INDOOR  # noqa: E402
+from uav_bridge.mission.flight_report import clip_to_outages  # noqa: E402
+from uav_bridge.mission.flight_report import hold_interval  # noqa: E402
+from uav_bridge.mission.flight_report import link_outages  # noqa: E402
+from uav_bridge.mission.flight_report import outage_lines  # noqa: E402
+from uav_bridge.mission.flight_report import station_keeping  # noqa: E402
 
 THESIS = {
     'xcorr': 0.2,                    # Sec. 6.3, Fig. 6.10b: under 0.2 at all lags

@@ -1,6 +1,6 @@
 """ROS 2 node ``mission``: take off, hold station over the boat, land (thesis Sec. 5.3, 5.4).
 
-A thin wrapper around :class:`uav_bridge.mission.MissionLogic`, stepped at ``rate`` on sim
+A thin wrapper around :class:`uav_bridge.mission.logic.MissionLogic`, stepped at ``rate`` on sim
 time (lockstep ticks, :mod:`tether_common.lockstep`). It publishes its phase on
 ``/mission/state`` (tether_msgs/MissionState, transient local) and flies the UAV one request
 at a time (mode, arm, takeoff, land; the answer fed to the next step) over one of two links
@@ -27,13 +27,13 @@ at a time (mode, arm, takeoff, land; the answer fed to the next step) over one o
 
 Losing the autopilot in flight (the link down for ``link_grace`` s, a reboot, a disarm) ends
 the mission in phase ``lost`` with the reason in ``/mission/state``
-(:class:`uav_bridge.mission.AutopilotWatch`; docs/autopilot-link.md).
+(:class:`uav_bridge.mission.logic.AutopilotWatch`; docs/autopilot-link.md).
 
 At the end, with a ``return_speed``, the mission returns over the pad (``pad``, down to
 ``return_height``), the setpoint on the link as while holding, then lands. A reel trip before the return lands the
-UAV where it is (during the return, the return goes on: :mod:`uav_bridge.mission`): the reel in its
+UAV where it is (during the return, the return goes on: :mod:`uav_bridge.mission.logic`): the reel in its
 fault mode (ReelState.MODE_FAULT: a safety trip holds it, its reason in ``/reel/diagnostics`` ``safety_trip``) for ``abort_after`` s, or a
-tension estimate above ``abort_tension`` (:class:`uav_bridge.mission.TripMonitor`). The
+tension estimate above ``abort_tension`` (:class:`uav_bridge.mission.logic.TripMonitor`). The
 mission's landing (the return and the descent) starts at ``land_time``, or
 ``land_before_end`` s before the end of the run (:func:`tether_common.lockstep.run_end`),
 whichever comes first.
@@ -70,11 +70,11 @@ from tether_common.qos import LOOP
 from tether_common.qos import SENSOR
 from tether_common.qos import STATE
 from tether_common.ros_parameters import declare_parameters
-from uav_bridge.mission import Inputs
-from uav_bridge.mission import MissionConfig
-from uav_bridge.mission import MissionLogic
-from uav_bridge.mission import TripMonitor
-from uav_bridge.mission_params import PARAMETERS
+from uav_bridge.mission.logic import Inputs
+from uav_bridge.mission.logic import MissionConfig
+from uav_bridge.mission.logic import MissionLogic
+from uav_bridge.mission.logic import TripMonitor
+from uav_bridge.mission.params import PARAMETERS
 
 def land_time(params: dict, end: float | None) -> float:
     """The sim time (s) the mission lands at: ``land_time``, or ``land_before_end`` before ``end``, the earlier.

@@ -3,7 +3,7 @@
 For runs without an autopilot. The body is ``tether_dynamics.plant.bodies.body_step`` (the
 form of Eq. 7.44-7.45: thrust along body +z, body torque, gravity, the tether's force at the
 attachment point), the same function the plant integrates; the controller is
-:class:`uav_bridge.multirotor_control.StationController`. :class:`BuiltinUav` answers the
+:class:`uav_bridge.builtin.multirotor_control.StationController`. :class:`BuiltinUav` answers the
 commands the MAVLink bridge forwards to ArduPilot, with ArduCopter's meaning: GUIDED and
 LAND modes, arm, take off to an altitude above the take-off point, position targets in
 GUIDED, LAND descending at ``land_speed`` and disarming on the ground. The ground is level at
@@ -27,7 +27,7 @@ from numba import njit
 
 from tether_dynamics.plant import bodies
 from tether_models.constants import GRAVITY
-from uav_bridge.multirotor_control import StationController
+from uav_bridge.builtin.multirotor_control import StationController
 
 MODES = ('GUIDED', 'LAND')
 

@@ -1,6 +1,6 @@
 """ROS 2 node ``builtin_uav``: a UAV for runs without an autopilot, with the bridge's interface.
 
-A thin wrapper around :class:`uav_bridge.builtin_uav.BuiltinUav` (the plant's UAV rigid body
+A thin wrapper around :class:`uav_bridge.builtin.uav.BuiltinUav` (the plant's UAV rigid body
 under the cascaded station controller). It publishes what ``mavlink_bridge`` publishes —
 ``/uav/pose``, ``/uav/twist`` (``world``) at every tick, ``/uav/imu`` (``uav``, FLU) at every
 multiple of 1/``imu_rate``, ``/uav/state`` (transient local) at every multiple of
@@ -49,6 +49,10 @@ from tether_msgs.srv import Takeoff
 
 from tether_common.geometry_fill import fill_quaternion
 from tether_common.geometry_fill import fill_vector
+from tether_common.lockstep import Input
+from tether_common.lockstep import Lockstep
+from tether_common.lockstep import Tick
+from tether_common.lockstep import period_ns
 from tether_common.node_main import ConfigurationError
 from tether_common.node_main import run_node
 from tether_common.qos import COMMAND
@@ -56,14 +60,10 @@ from tether_common.qos import LOOP
 from tether_common.qos import SENSOR
 from tether_common.qos import STATE
 from tether_common.ros_parameters import declare_parameters
-from tether_common.lockstep import Input
-from tether_common.lockstep import Lockstep
-from tether_common.lockstep import Tick
-from tether_common.lockstep import period_ns
 from tether_common.rotation import quaternion_rotation
-from uav_bridge.builtin_uav import BuiltinUav
-from uav_bridge.builtin_uav import BuiltinUavConfig
-from uav_bridge.builtin_uav_params import PARAMETERS
+from uav_bridge.builtin.params import PARAMETERS
+from uav_bridge.builtin.uav import BuiltinUav
+from uav_bridge.builtin.uav import BuiltinUavConfig
 from uav_bridge.ros_fill import fill_pose_and_twist
 
 

@@ -1,6 +1,6 @@
 """Parameters of the json_physics node (no rclpy import; the bringup validates scenes with them).
 
-The vehicle's defaults are :class:`uav_bridge.quad_motors.QuadXConfig`'s (a UAV of the
+The vehicle's defaults are :class:`uav_bridge.json_physics.quad_motors.QuadXConfig`'s (a UAV of the
 thesis's class, see that module).
 """
 

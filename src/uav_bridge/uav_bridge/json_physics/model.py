@@ -1,8 +1,8 @@
 """The physics side of ArduPilot SITL's JSON interface: a quad X with a tether (no rclpy).
 
-:class:`JsonPhysics` answers SITL's servo packets (:mod:`uav_bridge.sitl_json`): each new
+:class:`JsonPhysics` answers SITL's servo packets (:mod:`uav_bridge.json_physics.protocol`): each new
 frame holds the four motor PWMs over one time step ``1 / frame_rate``, advances the rotors
-(:mod:`uav_bridge.quad_motors`) and the UAV rigid body, and returns the JSON state for SITL.
+(:mod:`uav_bridge.json_physics.quad_motors`) and the UAV rigid body, and returns the JSON state for SITL.
 The body is ``tether_dynamics.plant.bodies.body_step`` (the form of Eq. 7.44-7.45: thrust
 along body +z, body torque, gravity, the tether's force at the attachment point), the
 function the plant and the built-in UAV integrate; the tether's force (N, world) is an input
@@ -46,12 +46,12 @@ import numpy as np
 from tether_dynamics.plant import bodies
 from tether_models.constants import GRAVITY
 from uav_bridge import frames
-from uav_bridge.quad_motors import QuadXConfig
-from uav_bridge.quad_motors import QuadXMotors
-from uav_bridge.sitl_json import PhysicsState
-from uav_bridge.sitl_json import ServoPacket
-from uav_bridge.sitl_json import format_state
-from uav_bridge.sitl_json import parse_servo
+from uav_bridge.json_physics.protocol import PhysicsState
+from uav_bridge.json_physics.protocol import ServoPacket
+from uav_bridge.json_physics.protocol import format_state
+from uav_bridge.json_physics.protocol import parse_servo
+from uav_bridge.json_physics.quad_motors import QuadXConfig
+from uav_bridge.json_physics.quad_motors import QuadXMotors
 
 NEW, RESEND, GAP, RESTART = 'new', 'resend', 'gap', 'restart'
 
@@ -145,7 +145,7 @@ class JsonPhysics:
     def handle(self, data: bytes, tether_force) -> Reply:
         """Answer one datagram from SITL under the tether's force (N, world) held over the frame.
 
-        Raises :class:`uav_bridge.sitl_json.SitlJsonError` for a datagram that is not a
+        Raises :class:`uav_bridge.json_physics.protocol.SitlJsonError` for a datagram that is not a
         servo packet (counted as rejected).
         """
         try:

@@ -4,7 +4,7 @@ Reads ``/uav/tether_force`` (the force the JSON physics applied to the UAV, worl
 plant's ``/tether/uav_wrench``), ``/uav/pose`` (the true
 UAV), ``/autopilot/pose`` (the autopilot's estimate, when the bridge publishes there) and
 ``/mission/state``. Over the flight report's station-keeping window
-(:func:`uav_bridge.report.hold_interval`) it gives the force's mean downward and
+(:func:`uav_bridge.mission.flight_report.hold_interval`) it gives the force's mean downward and
 sideways pull and its peak-to-peak magnitude, the hover load the rotors must carry on top of
 the weight, and how far the autopilot's estimate lies from the true position. With the JSON
 physics' ``/uav/rotor_thrust``, the hover balance: the mean rotor thrust against the mean
@@ -25,9 +25,9 @@ import numpy as np  # noqa: E402
 from tether_bringup.bag_reader import read_bag  # noqa: E402
 from tether_bringup.run_directory import node_parameter  # noqa: E402
 from tether_models.constants import GRAVITY  # noqa: E402
-from uav_bridge.json_physics_params import PARAMETERS as PHYSICS_PARAMETERS  # noqa: E402
-from uav_bridge.report import hold_interval  # noqa: E402
-from uav_bridge.report import read_flight  # noqa: E402
+from uav_bridge.json_physics.params import PARAMETERS as PHYSICS_PARAMETERS  # noqa: E402
+from uav_bridge.mission.flight_report import hold_interval  # noqa: E402
+from uav_bridge.mission.flight_report import read_flight  # noqa: E402
 
 
 def _stamp(header) -> float:

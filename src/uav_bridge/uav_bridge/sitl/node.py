@@ -1,6 +1,6 @@
 """ROS 2 node ``sitl``: runs a real ArduCopter SITL for the scene, for as long as the node runs.
 
-A thin wrapper around :class:`uav_bridge.sitl_runner.SitlRunner`, so a scene can start the
+A thin wrapper around :class:`uav_bridge.sitl.runner.SitlRunner`, so a scene can start the
 autopilot the ``mavlink_bridge`` node connects to. SITL runs in wall time at ``speedup``; it
 waits for the bridge to connect before it runs. If SITL ends on its own the node logs SITL's
 last lines, then the cause in one line (``SITL exited with status -9 (killed by SIGKILL)``),
@@ -10,7 +10,7 @@ already stopping the node, the node finds it at its end and exits with status 1 
 which fails the run too. When the node ends, SITL is killed, and its working directory is
 removed unless the scene gave one (``workdir``: kept, e.g. under the run directory). The
 scene's ``parameters`` are confirmed on SITL's second MAVLink port once it runs
-(:mod:`uav_bridge.sitl_parameter_check`): a name SITL does not have, or a value it does not
+(:mod:`uav_bridge.sitl.parameter_check`): a name SITL does not have, or a value it does not
 hold, ends the node the same way, naming them, since SITL itself skips an unknown name in its
 defaults file without a word.
 """
@@ -29,13 +29,13 @@ from rclpy.node import Node
 from tether_common.node_main import ConfigurationError
 from tether_common.node_main import run_node
 from tether_common.ros_parameters import declare_parameters
-from uav_bridge.sitl_parameter_check import CheckResult
-from uav_bridge.sitl_parameter_check import check_parameters
-from uav_bridge.sitl_params import PARAMETERS
-from uav_bridge.sitl_runner import SitlConfig
-from uav_bridge.sitl_runner import SitlError
-from uav_bridge.sitl_runner import SitlRunner
-from uav_bridge.sitl_runner import locate_binary
+from uav_bridge.sitl.parameter_check import CheckResult
+from uav_bridge.sitl.parameter_check import check_parameters
+from uav_bridge.sitl.params import PARAMETERS
+from uav_bridge.sitl.runner import SitlConfig
+from uav_bridge.sitl.runner import SitlError
+from uav_bridge.sitl.runner import SitlRunner
+from uav_bridge.sitl.runner import locate_binary
 
 
 def parse_parameters(items: list[str]) -> tuple[tuple[str, float], ...]:

@@ -3,15 +3,15 @@
 :class:`MavlinkSession` owns the link in its own thread, so a ROS executor is never blocked
 by I/O. It
 
-* connects to the URL (:mod:`uav_bridge.transport`) and reconnects with exponential back-off
+* connects to the URL (:mod:`uav_bridge.mavlink.transport`) and reconnects with exponential back-off
   after a failure, an EOF, or a silence of twice the link timeout;
 * sends its own HEARTBEAT (a GCS/onboard computer) every ``heartbeat_period``;
 * asks for the telemetry it converts with MAV_CMD_SET_MESSAGE_INTERVAL (511) when the link
   comes up, resumes after a gap, or the autopilot rebooted, and again, with back-off, for
   any stream that has not arrived within ``stream_timeout`` (ArduPilot forgets requested
   intervals when it restarts, and sends LOCAL_POSITION_NED only once its EKF uses GPS);
-* tracks the autopilot (:class:`uav_bridge.autopilot_state.AutopilotState`) and hands
-  converted samples (:mod:`uav_bridge.telemetry`) with the caller's clock's stamp to
+* tracks the autopilot (:class:`uav_bridge.mavlink.autopilot_state.AutopilotState`) and hands
+  converted samples (:mod:`uav_bridge.mavlink.telemetry`) with the caller's clock's stamp to
   ``on_sample``, and a :class:`LinkStatus` to ``on_status`` (if given) on every change and
   every ``status_period`` (:meth:`MavlinkSession.status` builds one on demand);
 * runs commands (mode, arm, disarm, takeoff, land) submitted from other threads, each
@@ -48,11 +48,11 @@ os.environ.setdefault('MAVLINK20', '1')
 
 from pymavlink.dialects.v20 import ardupilotmega as mavlink  # noqa: E402
 
-from uav_bridge import telemetry  # noqa: E402
-from uav_bridge.autopilot_state import AutopilotState  # noqa: E402
-from uav_bridge.transport import LinkClosed  # noqa: E402
-from uav_bridge.transport import Transport  # noqa: E402
-from uav_bridge.transport import parse_url  # noqa: E402
+from uav_bridge.mavlink import telemetry  # noqa: E402
+from uav_bridge.mavlink.autopilot_state import AutopilotState  # noqa: E402
+from uav_bridge.mavlink.transport import LinkClosed  # noqa: E402
+from uav_bridge.mavlink.transport import Transport  # noqa: E402
+from uav_bridge.mavlink.transport import parse_url  # noqa: E402
 
 MAV_CMD_SET_MESSAGE_INTERVAL = 511
 MAV_CMD_DO_SET_MODE = 176

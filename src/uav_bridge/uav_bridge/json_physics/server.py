@@ -1,7 +1,7 @@
 """The JSON physics server: SITL's servo packets in over UDP, the tethered quad X's state out (no rclpy).
 
 :class:`JsonPhysicsServer` binds the physics side's UDP port (9002 + 10 per SITL instance) and
-answers every servo packet with :class:`uav_bridge.json_physics.JsonPhysics`, replying to the
+answers every servo packet with :class:`uav_bridge.json_physics.model.JsonPhysics`, replying to the
 sender's address. SITL waits for each reply before it runs on, so SITL is in lockstep with
 this server and the physics time is the one clock of the run.
 
@@ -32,12 +32,12 @@ import numpy as np
 from tether_dynamics.plant import PlantInputs
 from tether_dynamics.plant import PlantOutputs
 from tether_dynamics.plant import TetherPlant
-from uav_bridge.json_physics import JsonPhysics
-from uav_bridge.json_physics import Reply
-from uav_bridge.json_physics import UavFrame
-from uav_bridge.sitl_json import ServoPacket
-from uav_bridge.sitl_json import SitlJsonError
-from uav_bridge.sitl_json import encode_servo
+from uav_bridge.json_physics.model import JsonPhysics
+from uav_bridge.json_physics.model import Reply
+from uav_bridge.json_physics.model import UavFrame
+from uav_bridge.json_physics.protocol import ServoPacket
+from uav_bridge.json_physics.protocol import SitlJsonError
+from uav_bridge.json_physics.protocol import encode_servo
 
 MAX_DATAGRAM = 2048
 

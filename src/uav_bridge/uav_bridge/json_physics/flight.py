@@ -1,7 +1,7 @@
 """ArduCopter SITL flies the JSON physics in one process: arm, take off in GUIDED, hold (no rclpy).
 
 For the real-autopilot test and the tether-model benchmark: the physics server and the
-MAVLink session (:class:`uav_bridge.session.MavlinkSession`, stepped) take turns in ticks of
+MAVLink session (:class:`uav_bridge.mavlink.session.MavlinkSession`, stepped) take turns in ticks of
 physics time, as the JSON physics and the bridge nodes do in the graph's lockstep, so the
 flight is the same at any pace (SITL runs only as fast as the physics replies and reads the
 session's bytes at a fixed frame); every wait is measured in physics time, with a wall-time
@@ -18,12 +18,12 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from uav_bridge import telemetry
-from uav_bridge.json_physics import FrameCounts
-from uav_bridge.json_physics_server import JsonPhysicsServer
-from uav_bridge.session import MavlinkSession
-from uav_bridge.session import SessionConfig
-from uav_bridge.sitl_runner import SitlRunner
+from uav_bridge.json_physics.model import FrameCounts
+from uav_bridge.json_physics.server import JsonPhysicsServer
+from uav_bridge.mavlink import telemetry
+from uav_bridge.mavlink.session import MavlinkSession
+from uav_bridge.mavlink.session import SessionConfig
+from uav_bridge.sitl.runner import SitlRunner
 
 RC_MODE_SWITCH = 4.0        # s of sim time: SITL's default RC input sets STABILIZE at ~2.5 s; GUIDED after it
 

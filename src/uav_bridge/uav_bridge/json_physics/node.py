@@ -1,6 +1,6 @@
 """ROS 2 node ``json_physics``: the UAV that ArduPilot SITL (``--model JSON``) flies, in the graph's lockstep.
 
-A thin wrapper around :class:`uav_bridge.json_physics_server.JsonPhysicsServer`. SITL sends a
+A thin wrapper around :class:`uav_bridge.json_physics.server.JsonPhysicsServer`. SITL sends a
 servo packet per physics frame and waits for the reply; this node answers them only inside
 its lockstep ticks (:mod:`tether_common.lockstep`): the tick at sim time t answers SITL's
 frames until the physics time reaches t, waits for SITL's next servo packet (SITL then waits
@@ -16,7 +16,7 @@ The tether's force on the UAV comes from the plant on ``/tether/uav_wrench``
 (geometry_msgs/WrenchStamped, world): the tick at t holds the wrench stamped t - 1/wrench_rate
 over its frames (the explicit delay of the UAV <-> plant loop); none is zero force. With
 ``tether_model: straight_line`` it comes instead from ArduPilot's SIM_Tether model
-(:class:`uav_bridge.json_physics_server.StraightTether`, the bench's too): a straight line from
+(:class:`uav_bridge.json_physics.server.StraightTether`, the bench's too): a straight line from
 the reel mount (``/platform/reel_pose`` of the tick) with the plant's deployed length
 (``/tether/state`` one plant step old), for the comparison of the two on the same mission.
 The force applied is published on ``/uav/tether_force`` (geometry_msgs/WrenchStamped, world),
@@ -54,16 +54,16 @@ from tether_common.qos import STATE
 from tether_common.ros_parameters import declare_parameters
 from tether_common.rotation import quaternion_rotation
 from tether_models.constants import GRAVITY
-from uav_bridge.json_physics import JsonPhysics
-from uav_bridge.json_physics import JsonPhysicsConfig
-from uav_bridge.json_physics_params import PARAMETERS
-from uav_bridge.json_physics_server import HeldForce
-from uav_bridge.json_physics_server import JsonPhysicsServer
-from uav_bridge.json_physics_server import PlatformPose
-from uav_bridge.json_physics_server import StraightTether
-from uav_bridge.quad_motors import QuadXConfig
+from uav_bridge.json_physics.model import JsonPhysics
+from uav_bridge.json_physics.model import JsonPhysicsConfig
+from uav_bridge.json_physics.params import PARAMETERS
+from uav_bridge.json_physics.protocol import physics_port
+from uav_bridge.json_physics.quad_motors import QuadXConfig
+from uav_bridge.json_physics.server import HeldForce
+from uav_bridge.json_physics.server import JsonPhysicsServer
+from uav_bridge.json_physics.server import PlatformPose
+from uav_bridge.json_physics.server import StraightTether
 from uav_bridge.ros_fill import pose_and_twist
-from uav_bridge.sitl_json import physics_port
 
 WAIT_LOG_PERIOD = 10.0      # s of wall time between "waiting for SITL" lines
 

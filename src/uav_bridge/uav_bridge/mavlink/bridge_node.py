@@ -1,6 +1,6 @@
 """ROS 2 node ``mavlink_bridge``: an ArduPilot autopilot over MAVLink, in ROS conventions.
 
-A thin wrapper around :class:`uav_bridge.session.MavlinkSession`, whose thread owns the
+A thin wrapper around :class:`uav_bridge.mavlink.session.MavlinkSession`, whose thread owns the
 link, so the executor never waits on I/O. Publishes, stamped with the graph's clock at
 arrival:
 
@@ -25,7 +25,7 @@ refuses, false disarms), ``/uav/takeoff`` (tether_msgs/Takeoff), ``/uav/land``
 (stepped: in the tick after their stamp).
 Services answer once the autopilot did (or refused, with its reasons), in their own threads.
 
-With ``lockstep_input`` (SITL on the JSON physics, :mod:`uav_bridge.json_physics_node`) the
+With ``lockstep_input`` (SITL on the JSON physics, :mod:`uav_bridge.json_physics.node`) the
 bridge ticks in the graph's lockstep after the physics' message of the same tick, when SITL
 waits for its next frame: each tick reads what SITL sent, runs the link's timers on sim time,
 sends the queued commands and setpoints, publishes (stamped with the tick) and only then acks,
@@ -69,6 +69,11 @@ from tether_msgs.srv import Takeoff
 
 from tether_common.geometry_fill import fill_quaternion
 from tether_common.geometry_fill import fill_vector
+from tether_common.lockstep import Input
+from tether_common.lockstep import Lockstep
+from tether_common.lockstep import Tick
+from tether_common.lockstep import period_ns
+from tether_common.lockstep import stamp_ns
 from tether_common.node_main import ConfigurationError
 from tether_common.node_main import make_executor
 from tether_common.node_main import run_node
@@ -77,19 +82,14 @@ from tether_common.qos import LOOP
 from tether_common.qos import SENSOR
 from tether_common.qos import STATE
 from tether_common.ros_parameters import declare_parameters
-from tether_common.lockstep import Input
-from tether_common.lockstep import Lockstep
-from tether_common.lockstep import Tick
-from tether_common.lockstep import period_ns
-from tether_common.lockstep import stamp_ns
-from uav_bridge import telemetry
 from uav_bridge.frames import quaternion_enu_to_yaw_ned
-from uav_bridge.mavlink_bridge_params import PARAMETERS
-from uav_bridge.session import CommandResult
-from uav_bridge.session import LinkStatus
-from uav_bridge.session import MavlinkSession
+from uav_bridge.mavlink import telemetry
+from uav_bridge.mavlink.bridge_params import PARAMETERS
+from uav_bridge.mavlink.session import CommandResult
+from uav_bridge.mavlink.session import LinkStatus
+from uav_bridge.mavlink.session import MavlinkSession
+from uav_bridge.mavlink.session import SessionConfig
 from uav_bridge.ros_fill import pose_and_twist
-from uav_bridge.session import SessionConfig
 
 WORLD_FRAMES = ('world', '')
 

@@ -1,0 +1,1 @@
+"""The mission: its phase logic, the node that steps it, the flight and mission reports."""
