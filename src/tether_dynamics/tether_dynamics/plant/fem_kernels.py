@@ -48,6 +48,8 @@ GAUSS = np.array([-1.0 / np.sqrt(3.0), 1.0 / np.sqrt(3.0)])
  ST_ORDER) = range(11)
 ST_SIZE = 11
 STATUS_OK, STATUS_FULL, STATUS_NONFINITE, STATUS_SHORT = 0, 1, 2, 3
+# What the mesh does after a step (:func:`_mesh_action`).
+MESH_KEEP, MESH_SPLIT, MESH_MERGE = 0, 1, 2
 # fp (float64): EA, mu, h, g, diameter, Cd normal, Cd tangential, air density, Kelvin-Voigt c,
 # wind (3), reel command, thrust, pending length ('insert'), UAV mass, the last step's feed rate
 # into the reel element, the reel command of the previous call (a spool-rate command ramps from
@@ -541,12 +543,17 @@ def _merge_quadratic(x, v, rest, st, fp, u0, v0, feed):
 
 @njit(cache=True)
 def advance(x, v, rest, st, fp, rs, rp, g_tab, u_tab, t_a, t_b, n_sub, bs, inertia, inertia_inv, rho, torque, acc):
-    """Advance the tether, the winch and (if dynamic) the UAV from t_a to t_b in n_sub steps."""
+    """Advance the tether, the winch and (if dynamic) the UAV from t_a to t_b in n_sub steps.
+
+    Each step is a sequence of named stages, all evaluated at the step's start as the forces
+    are: the ends (:func:`_set_ends`), the material velocity at the guide way, the element
+    forces, the energy flows through the ends, weight and drag, the winch, the UAV body,
+    the free nodes' velocities with their mass rates, the power of the rest-length change and
+    of the Kelvin-Voigt damping, then the positions, the mesh following the deployed length,
+    and its splits and merges.
+    """
     dt = (t_b - t_a) / n_sub
-    method = st[ST_METHOD]
-    order = st[ST_ORDER]
-    kv_on = st[ST_KV] == 1
-    mu, h, g, ea = fp[FP_MU], fp[FP_H], fp[FP_G], fp[FP_EA]
+    order, method, kv_on = st[ST_ORDER], st[ST_METHOD], st[ST_KV] == 1
     cap = x.shape[0]
     f = np.zeros((cap, 3))
     drag = np.zeros((cap, 3))
@@ -556,215 +563,29 @@ def advance(x, v, rest, st, fp, rs, rp, g_tab, u_tab, t_a, t_b, n_sub, bs, inert
     mesh = np.zeros(3)
     p0, v0, pf, vf, u0, tan = np.empty(3), np.empty(3), np.empty(3), np.empty(3), np.empty(3), np.empty(3)
     force_uav, force_reel = np.empty(3), np.empty(3)
-    payout = rp[RP_RADIUS] * rs[RS_RATE]
-    feed = payout
+    feed = rp[RP_RADIUS] * rs[RS_RATE]
     for k in range(n_sub):
         t = t_a + k * dt
         n = st[ST_NODES]
-        n_el = (n - 1) // order
         _set_ends(x, v, n, st[ST_BODY] == 1, bs, rho, g_tab, u_tab, t_a, t_b, t, p0, v0, pf, vf)
-        # Material velocity at the guide way: the guide way's plus the payout along the reel element.
-        guide_tangent(x, rest, order, tan)
-        for c in range(3):
-            u0[c] = v0[c]
-            if method == METHOD_ALE:
-                u0[c] += feed * tan[c]
-        f[:n] = 0.0
-        if order == 1:
-            element_tensions(x, v, rest, n, fp, kv_on, u0, tens)
-            t_exit = exit_tension(x, rest, tens, fp)
-            for e in range(n - 1):
-                if tens[e] == 0.0:
-                    continue
-                d = np.sqrt((x[e + 1, 0] - x[e, 0]) ** 2 + (x[e + 1, 1] - x[e, 1]) ** 2
-                            + (x[e + 1, 2] - x[e, 2]) ** 2)
-                q = tens[e] / d
-                for c in range(3):
-                    fc = q * (x[e + 1, c] - x[e, c])
-                    f[e, c] += fc
-                    f[e + 1, c] -= fc
-        else:
-            quadratic_forces(x, v, rest, n, fp, kv_on, u0, tens, tkv, f, tangents)
-            t_exit = quadratic_exit_force(f[0], lump(rest, n, order, mu, 0), fp, force_reel)
-        if np.isfinite(acc[ACC_LAST_T]) and abs(t_exit - acc[ACC_LAST_T]) > acc[ACC_JUMP]:
-            acc[ACC_JUMP] = abs(t_exit - acc[ACC_LAST_T])
-            acc[ACC_JUMP_T] = t
-        acc[ACC_LAST_T] = t_exit
-        # Energy flows of this step (evaluated at its start, as the forces are): the tether's
-        # forces on the moving ends, and the gravitational energy of the kinematic end lumps
-        # (they are part of the counted potential energy).
-        m_first, m_last = lump(rest, n, order, mu, 0), lump(rest, n, order, mu, n - 1)
-        p_ends = g * (m_first * v0[2] + m_last * vf[2])
-        for c in range(3):
-            p_ends -= f[0, c] * v0[c] + f[n - 1, c] * vf[c]
-            force_uav[c] = f[n - 1, c]
-        force_uav[2] -= m_last * g
-        acc[ACC_ENDS] += dt * p_ends
-        acc[ACC_THROUGHPUT] += dt * abs(p_ends)
-        for i in range(n):
-            f[i, 2] -= lump(rest, n, order, mu, i) * g
-        if st[ST_DRAG] == 1:
-            drag[:n] = 0.0
-            _drag(x, v, n, fp, st[ST_WIND] == 1, drag)
-            p_drag = 0.0
-            for i in range(1, n - 1):
-                for c in range(3):
-                    f[i, c] += drag[i, c]
-                    p_drag += drag[i, c] * v[i, c]
-            acc[ACC_DRAG] += dt * p_drag
-            acc[ACC_THROUGHPUT] += dt * abs(p_drag)
-        # Winch and UAV body.
-        command = fp[FP_COMMAND]
-        if st[ST_TORQUE] == 0:
-            command = fp[FP_COMMAND_PREV] + (command - fp[FP_COMMAND_PREV]) * (k + 1) / n_sub
-        payout = reel_step(rs, rp, st[ST_TORQUE] == 1, command, t_exit, dt)
-        # Material entering the reel element: the payout plus what a merge still owes it.
-        payback = fp[FP_OWED] * min(dt / PAYBACK, 1.0)
-        fp[FP_OWED] -= payback
-        feed = payout + payback / dt
-        fp[FP_PAYOUT] = feed
+        _material_velocity(x, rest, order, method, feed, v0, tan, u0)
+        t_exit = _element_forces(x, v, rest, n, order, kv_on, fp, u0, tens, tkv, f, tangents, force_reel)
+        _note_tension_jump(acc, t_exit, t)
+        _end_flows(f, rest, n, order, fp, v0, vf, force_uav, acc, dt)
+        _weight_and_drag(x, v, rest, n, order, st, fp, f, drag, acc, dt)
+        feed = _winch(st, fp, rs, rp, t_exit, k, n_sub, dt)
         if st[ST_BODY] == 1:
-            body_step(bs, fp[FP_UAV_MASS], inertia, inertia_inv, rho, fp[FP_THRUST], torque, force_uav, g, dt)
-        # Mass rates of the free nodes from the reel element's rest-length rate (its lumps'
-        # shares), with the inflowing material's momentum ('ale').
-        for i in range(1, n - 1):
-            m = lump(rest, n, order, mu, i)
-            if method == METHOD_UNIFORM:
-                mdot = mu * feed / n_el
-            elif method == METHOD_ALE or method == METHOD_LAST:
-                if order == 1:
-                    mdot = 0.5 * mu * feed if i == 1 else 0.0
-                else:
-                    mdot = 2.0 / 3.0 * mu * feed if i == 1 else (mu * feed / 6.0 if i == 2 else 0.0)
-            else:
-                mdot = 0.0
-            p_mass = 0.5 * mdot * (v[i, 0] ** 2 + v[i, 1] ** 2 + v[i, 2] ** 2)
-            for c in range(3):
-                a = f[i, c] / m
-                if method == METHOD_ALE and mdot != 0.0:
-                    flux = mdot * (u0[c] - v[i, c])
-                    a += flux / m
-                    p_mass += flux * v[i, c]
-                v[i, c] += dt * a
-                if i == 1:
-                    fp[FP_ACC1 + c] = a
-            acc[ACC_MASS] += dt * p_mass
-            acc[ACC_THROUGHPUT] += dt * abs(p_mass)
-        # Elastic and gravitational energy released by the rest-length change at fixed nodes.
-        p_rest = 0.0
-        if order == 1:
-            for e in range(n_el):
-                if method == METHOD_UNIFORM:
-                    ldot = feed / n_el
-                elif (method == METHOD_ALE or method == METHOD_LAST) and e == 0:
-                    ldot = feed
-                else:
-                    continue
-                length = np.sqrt((x[e + 1, 0] - x[e, 0]) ** 2 + (x[e + 1, 1] - x[e, 1]) ** 2
-                                 + (x[e + 1, 2] - x[e, 2]) ** 2)
-                eps = length / rest[e] - 1.0
-                if eps > 0.0:
-                    p_rest -= ea * eps * (1.0 + 0.5 * eps) * ldot
-                p_rest += mu * ldot * g * 0.5 * (x[e, 2] + x[e + 1, 2])
-        else:
-            for gi in range(2):
-                eps = tangents[gi, 3] - 1.0
-                if eps > 0.0:
-                    p_rest -= 0.5 * ea * eps * (1.0 + 0.5 * eps) * feed
-            p_rest += mu * feed * g * (x[0, 2] / 6.0 + 2.0 / 3.0 * x[1, 2] + x[2, 2] / 6.0)
-            # The reel element's middle node stays at its middle: it moves through the material
-            # by -Ldot / 2 along dr/ds (mesh velocity = material velocity - Ldot / 2 r'(0)); the
-            # elastic and gravity forces' work on that motion is part of this flow.
-            for c in range(3):
-                mesh[c] = -0.5 * feed * (x[2, c] - x[0, c]) / rest[0]
-                p_rest -= lump(rest, n, order, mu, 1) * g * mesh[c] if c == 2 else 0.0
-            for gi in range(2):
-                rg = tangents[gi]
-                elastic = tens[gi] - tkv[gi]
-                if tens[gi] > 0.0:
-                    for c in range(3):
-                        p_rest += elastic * rg[c] / rg[3] * 2.0 * GAUSS[gi] * mesh[c]
-        acc[ACC_REST] += dt * p_rest
-        acc[ACC_THROUGHPUT] += dt * abs(p_rest)
-        # Kelvin-Voigt dissipation: the damping tension's power on the nodes' velocities.
+            body_step(bs, fp[FP_UAV_MASS], inertia, inertia_inv, rho, fp[FP_THRUST], torque, force_uav, fp[FP_G], dt)
+        _accelerate(v, rest, n, order, method, fp, feed, u0, f, acc, dt)
+        _rest_change_flow(x, rest, n, order, method, fp, feed, tens, tkv, tangents, mesh, acc, dt)
         if kv_on:
-            p_kv = 0.0
-            if order == 1:
-                for e in range(n_el):
-                    tk = tens[e]
-                    length = np.sqrt((x[e + 1, 0] - x[e, 0]) ** 2 + (x[e + 1, 1] - x[e, 1]) ** 2
-                                     + (x[e + 1, 2] - x[e, 2]) ** 2)
-                    eps = length / rest[e] - 1.0
-                    if tk > 0.0 and eps > 0.0:
-                        tk -= ea * eps
-                        w = 0.0
-                        for c in range(3):
-                            w += (x[e + 1, c] - x[e, c]) / length * (v[e + 1, c] - v[e, c])
-                        p_kv -= tk * w
-            else:
-                for e in range(n_el):
-                    j = 2 * e
-                    for gi in range(2):
-                        tk = tkv[2 * e + gi]
-                        if tens[2 * e + gi] == 0.0 or tk == 0.0:
-                            continue
-                        z = GAUSS[gi]
-                        rg = tangents[2 * e + gi]
-                        w = 0.0
-                        for c in range(3):
-                            w += rg[c] / rg[3] * ((z - 0.5) * v[j, c] - 2.0 * z * v[j + 1, c] + (z + 0.5) * v[j + 2, c])
-                        p_kv -= tk * w
-            acc[ACC_KV] += dt * p_kv
-            acc[ACC_THROUGHPUT] += dt * abs(p_kv)
-        for i in range(1, n - 1):
-            for c in range(3):
-                x[i, c] += dt * v[i, c]
-        if order == 2 and method == METHOD_ALE:
-            for c in range(3):
-                x[1, c] += dt * mesh[c]
-        # The mesh follows the deployed length.
-        if method == METHOD_ALE or method == METHOD_LAST:
-            rest[0] += dt * feed
-            if rest[0] < 1e-6 * h:
-                st[ST_STATUS] = STATUS_SHORT
-                return
-        elif method == METHOD_UNIFORM:
-            length_now = rs[RS_LENGTH]
-            for e in range(n_el):
-                rest[e] = length_now / n_el
-        else:
-            fp[FP_PENDING] += dt * feed
-        e_before = 0.0
-        if method == METHOD_ALE:
-            if rest[0] > (SPLIT if order == 1 else SPLIT_QUADRATIC) * h:
-                e_before = energy(x, v, rest, n, fp, order)
-                if order == 1:
-                    _split(x, v, rest, st, fp, u0)
-                else:
-                    _split_quadratic(x, v, rest, st, fp, u0)
-            elif rest[0] < (MERGE if order == 1 else MERGE_QUADRATIC) * h and n_el > 1:
-                e_before = energy(x, v, rest, n, fp, order)
-                if order == 1:
-                    owed = _merge(x, v, rest, st, fp, u0, v0, feed, True)
-                    fp[FP_OWED] += owed
-                    acc[ACC_OWED] += owed
-                else:
-                    _merge_quadratic(x, v, rest, st, fp, u0, v0, feed)
-        elif method == METHOD_INSERT:
-            if fp[FP_PENDING] >= h:
-                e_before = energy(x, v, rest, n, fp, order)
-                rest[0] += h
-                fp[FP_PENDING] -= h
-                _split(x, v, rest, st, fp, v0)
-            elif fp[FP_PENDING] <= -h and n > 3:
-                e_before = energy(x, v, rest, n, fp, order)
-                _merge(x, v, rest, st, fp, v0, v0, 0.0, False)
-                rest[0] -= h
-                fp[FP_PENDING] += h
-        if st[ST_NODES] != n:
-            change = energy(x, v, rest, st[ST_NODES], fp, order) - e_before
-            acc[ACC_RESHAPE] += change
-            acc[ACC_THROUGHPUT] += abs(change)
+            _damping_flow(x, v, rest, n, order, fp, tens, tkv, tangents, acc, dt)
+        _move_nodes(x, v, n, order, method, mesh, dt)
+        if not _follow_length(rest, st, fp, rs, n, order, feed, dt):
+            return
+        action = _mesh_action(rest, st, fp, n, order)
+        if action != MESH_KEEP:
+            _remesh(x, v, rest, st, fp, acc, n, order, feed, u0, v0, action)
         if st[ST_STATUS] != STATUS_OK:
             return
         for c in range(3):
@@ -774,6 +595,302 @@ def advance(x, v, rest, st, fp, rs, rp, g_tab, u_tab, t_a, t_b, n_sub, bs, inert
     _set_ends(x, v, st[ST_NODES], st[ST_BODY] == 1, bs, rho, g_tab, u_tab, t_a, t_b, t_b, p0, v0, pf, vf)
     if not _all_finite(x, v, rest, st[ST_NODES], order, bs, rs, acc):
         st[ST_STATUS] = STATUS_NONFINITE
+
+
+@njit(cache=True, _nrt=False)
+def _material_velocity(x, rest, order, method, feed, v0, tan, u0):
+    """The material velocity at the guide way into u0: the guide way's plus the payout along the reel element."""
+    guide_tangent(x, rest, order, tan)
+    for c in range(3):
+        u0[c] = v0[c]
+        if method == METHOD_ALE:
+            u0[c] += feed * tan[c]
+
+
+@njit(cache=True, _nrt=False)
+def _element_forces(x, v, rest, n, order, kv_on, fp, u0, tens, tkv, f, tangents, force_reel):
+    """The elements' elastic and damping forces into f[:n] (zeroed first), their tensions into
+    tens (quadratic: per Gauss point, damping parts into tkv); returns the tension at the guide way.
+    """
+    f[:n] = 0.0
+    if order == 2:
+        quadratic_forces(x, v, rest, n, fp, kv_on, u0, tens, tkv, f, tangents)
+        return quadratic_exit_force(f[0], lump(rest, n, 2, fp[FP_MU], 0), fp, force_reel)
+    element_tensions(x, v, rest, n, fp, kv_on, u0, tens)
+    t_exit = exit_tension(x, rest, tens, fp)
+    for e in range(n - 1):
+        if tens[e] == 0.0:
+            continue
+        d = np.sqrt((x[e + 1, 0] - x[e, 0]) ** 2 + (x[e + 1, 1] - x[e, 1]) ** 2
+                    + (x[e + 1, 2] - x[e, 2]) ** 2)
+        q = tens[e] / d
+        for c in range(3):
+            fc = q * (x[e + 1, c] - x[e, c])
+            f[e, c] += fc
+            f[e + 1, c] -= fc
+    return t_exit
+
+
+@njit(cache=True, _nrt=False)
+def _note_tension_jump(acc, t_exit, t):
+    """Keep the largest change of the guide-way tension from one step to the next, and its time."""
+    if np.isfinite(acc[ACC_LAST_T]) and abs(t_exit - acc[ACC_LAST_T]) > acc[ACC_JUMP]:
+        acc[ACC_JUMP] = abs(t_exit - acc[ACC_LAST_T])
+        acc[ACC_JUMP_T] = t
+    acc[ACC_LAST_T] = t_exit
+
+
+@njit(cache=True, _nrt=False)
+def _end_flows(f, rest, n, order, fp, v0, vf, force_uav, acc, dt):
+    """The energy flow through the moving ends: the tether's forces on them, and the
+    gravitational energy of the kinematic end lumps (part of the counted potential energy);
+    the tether's force on the UAV (with its end lump's weight) into force_uav.
+    """
+    mu, g = fp[FP_MU], fp[FP_G]
+    m_first, m_last = lump(rest, n, order, mu, 0), lump(rest, n, order, mu, n - 1)
+    p_ends = g * (m_first * v0[2] + m_last * vf[2])
+    for c in range(3):
+        p_ends -= f[0, c] * v0[c] + f[n - 1, c] * vf[c]
+        force_uav[c] = f[n - 1, c]
+    force_uav[2] -= m_last * g
+    acc[ACC_ENDS] += dt * p_ends
+    acc[ACC_THROUGHPUT] += dt * abs(p_ends)
+
+
+@njit(cache=True, _nrt=False)
+def _weight_and_drag(x, v, rest, n, order, st, fp, f, drag, acc, dt):
+    """The lumps' weight and (if on) the air drag on the free nodes into f, with drag's power."""
+    mu, g = fp[FP_MU], fp[FP_G]
+    for i in range(n):
+        f[i, 2] -= lump(rest, n, order, mu, i) * g
+    if st[ST_DRAG] != 1:
+        return
+    drag[:n] = 0.0
+    _drag(x, v, n, fp, st[ST_WIND] == 1, drag)
+    p_drag = 0.0
+    for i in range(1, n - 1):
+        for c in range(3):
+            f[i, c] += drag[i, c]
+            p_drag += drag[i, c] * v[i, c]
+    acc[ACC_DRAG] += dt * p_drag
+    acc[ACC_THROUGHPUT] += dt * abs(p_drag)
+
+
+@njit(cache=True, _nrt=False)
+def _winch(st, fp, rs, rp, t_exit, k, n_sub, dt):
+    """Step the winch (a spool-rate command ramps over the call); returns the feed rate into the
+    reel element: the payout plus what a merge still owes it.
+    """
+    command = fp[FP_COMMAND]
+    if st[ST_TORQUE] == 0:
+        command = fp[FP_COMMAND_PREV] + (command - fp[FP_COMMAND_PREV]) * (k + 1) / n_sub
+    payout = reel_step(rs, rp, st[ST_TORQUE] == 1, command, t_exit, dt)
+    payback = fp[FP_OWED] * min(dt / PAYBACK, 1.0)
+    fp[FP_OWED] -= payback
+    feed = payout + payback / dt
+    fp[FP_PAYOUT] = feed
+    return feed
+
+
+@njit(cache=True, _nrt=False)
+def _mass_rate(i, n_el, order, method, mu, feed):
+    """The rate of free node i's lump mass from the reel element's rest-length rate (its lumps' shares)."""
+    if method == METHOD_UNIFORM:
+        return mu * feed / n_el
+    if method == METHOD_ALE or method == METHOD_LAST:
+        if order == 1:
+            return 0.5 * mu * feed if i == 1 else 0.0
+        return 2.0 / 3.0 * mu * feed if i == 1 else (mu * feed / 6.0 if i == 2 else 0.0)
+    return 0.0
+
+
+@njit(cache=True, _nrt=False)
+def _accelerate(v, rest, n, order, method, fp, feed, u0, f, acc, dt):
+    """The free nodes' velocities from their forces, with the inflowing material's momentum
+    ('ale'), and the power of their mass change; node 1's acceleration into fp.
+    """
+    mu = fp[FP_MU]
+    n_el = (n - 1) // order
+    for i in range(1, n - 1):
+        m = lump(rest, n, order, mu, i)
+        mdot = _mass_rate(i, n_el, order, method, mu, feed)
+        p_mass = 0.5 * mdot * (v[i, 0] ** 2 + v[i, 1] ** 2 + v[i, 2] ** 2)
+        for c in range(3):
+            a = f[i, c] / m
+            if method == METHOD_ALE and mdot != 0.0:
+                flux = mdot * (u0[c] - v[i, c])
+                a += flux / m
+                p_mass += flux * v[i, c]
+            v[i, c] += dt * a
+            if i == 1:
+                fp[FP_ACC1 + c] = a
+        acc[ACC_MASS] += dt * p_mass
+        acc[ACC_THROUGHPUT] += dt * abs(p_mass)
+
+
+@njit(cache=True, _nrt=False)
+def _rest_change_flow(x, rest, n, order, method, fp, feed, tens, tkv, tangents, mesh, acc, dt):
+    """The elastic and gravitational energy released by the rest-length change at fixed nodes;
+    for quadratic elements, the reel element's middle-node mesh velocity into mesh.
+    """
+    ea, mu, g = fp[FP_EA], fp[FP_MU], fp[FP_G]
+    n_el = (n - 1) // order
+    p_rest = 0.0
+    if order == 1:
+        for e in range(n_el):
+            if method == METHOD_UNIFORM:
+                ldot = feed / n_el
+            elif (method == METHOD_ALE or method == METHOD_LAST) and e == 0:
+                ldot = feed
+            else:
+                continue
+            length = np.sqrt((x[e + 1, 0] - x[e, 0]) ** 2 + (x[e + 1, 1] - x[e, 1]) ** 2
+                             + (x[e + 1, 2] - x[e, 2]) ** 2)
+            eps = length / rest[e] - 1.0
+            if eps > 0.0:
+                p_rest -= ea * eps * (1.0 + 0.5 * eps) * ldot
+            p_rest += mu * ldot * g * 0.5 * (x[e, 2] + x[e + 1, 2])
+    else:
+        for gi in range(2):
+            eps = tangents[gi, 3] - 1.0
+            if eps > 0.0:
+                p_rest -= 0.5 * ea * eps * (1.0 + 0.5 * eps) * feed
+        p_rest += mu * feed * g * (x[0, 2] / 6.0 + 2.0 / 3.0 * x[1, 2] + x[2, 2] / 6.0)
+        # The reel element's middle node stays at its middle: it moves through the material
+        # by -Ldot / 2 along dr/ds (mesh velocity = material velocity - Ldot / 2 r'(0)); the
+        # elastic and gravity forces' work on that motion is part of this flow.
+        for c in range(3):
+            mesh[c] = -0.5 * feed * (x[2, c] - x[0, c]) / rest[0]
+            p_rest -= lump(rest, n, order, mu, 1) * g * mesh[c] if c == 2 else 0.0
+        for gi in range(2):
+            rg = tangents[gi]
+            elastic = tens[gi] - tkv[gi]
+            if tens[gi] > 0.0:
+                for c in range(3):
+                    p_rest += elastic * rg[c] / rg[3] * 2.0 * GAUSS[gi] * mesh[c]
+    acc[ACC_REST] += dt * p_rest
+    acc[ACC_THROUGHPUT] += dt * abs(p_rest)
+
+
+@njit(cache=True, _nrt=False)
+def _damping_flow(x, v, rest, n, order, fp, tens, tkv, tangents, acc, dt):
+    """Kelvin-Voigt dissipation: the damping tension's power on the nodes' velocities."""
+    n_el = (n - 1) // order
+    p_kv = 0.0
+    if order == 1:
+        for e in range(n_el):
+            tk = tens[e]
+            length = np.sqrt((x[e + 1, 0] - x[e, 0]) ** 2 + (x[e + 1, 1] - x[e, 1]) ** 2
+                             + (x[e + 1, 2] - x[e, 2]) ** 2)
+            eps = length / rest[e] - 1.0
+            if tk > 0.0 and eps > 0.0:
+                tk -= fp[FP_EA] * eps
+                w = 0.0
+                for c in range(3):
+                    w += (x[e + 1, c] - x[e, c]) / length * (v[e + 1, c] - v[e, c])
+                p_kv -= tk * w
+    else:
+        for e in range(n_el):
+            j = 2 * e
+            for gi in range(2):
+                tk = tkv[2 * e + gi]
+                if tens[2 * e + gi] == 0.0 or tk == 0.0:
+                    continue
+                z = GAUSS[gi]
+                rg = tangents[2 * e + gi]
+                w = 0.0
+                for c in range(3):
+                    w += rg[c] / rg[3] * ((z - 0.5) * v[j, c] - 2.0 * z * v[j + 1, c] + (z + 0.5) * v[j + 2, c])
+                p_kv -= tk * w
+    acc[ACC_KV] += dt * p_kv
+    acc[ACC_THROUGHPUT] += dt * abs(p_kv)
+
+
+@njit(cache=True, _nrt=False)
+def _move_nodes(x, v, n, order, method, mesh, dt):
+    """The free nodes' positions from their new velocities (symplectic Euler), and for
+    quadratic 'ale' the reel element's middle node's mesh motion.
+    """
+    for i in range(1, n - 1):
+        for c in range(3):
+            x[i, c] += dt * v[i, c]
+    if order == 2 and method == METHOD_ALE:
+        for c in range(3):
+            x[1, c] += dt * mesh[c]
+
+
+@njit(cache=True, _nrt=False)
+def _follow_length(rest, st, fp, rs, n, order, feed, dt):
+    """The mesh follows the deployed length by its method; False (status SHORT) when the reel
+    element's rest length reached zero.
+    """
+    method = st[ST_METHOD]
+    n_el = (n - 1) // order
+    if method == METHOD_ALE or method == METHOD_LAST:
+        rest[0] += dt * feed
+        if rest[0] < 1e-6 * fp[FP_H]:
+            st[ST_STATUS] = STATUS_SHORT
+            return False
+    elif method == METHOD_UNIFORM:
+        length_now = rs[RS_LENGTH]
+        for e in range(n_el):
+            rest[e] = length_now / n_el
+    else:
+        fp[FP_PENDING] += dt * feed
+    return True
+
+
+@njit(cache=True, _nrt=False)
+def _mesh_action(rest, st, fp, n, order):
+    """What the mesh does after this step: MESH_KEEP, MESH_SPLIT (the reel element grew past its
+    split length, or 'insert' has a whole element pending) or MESH_MERGE (it shrank below its
+    merge length, or 'insert' owes a whole element).
+    """
+    method, h = st[ST_METHOD], fp[FP_H]
+    if method == METHOD_ALE:
+        if rest[0] > (SPLIT if order == 1 else SPLIT_QUADRATIC) * h:
+            return MESH_SPLIT
+        if rest[0] < (MERGE if order == 1 else MERGE_QUADRATIC) * h and (n - 1) // order > 1:
+            return MESH_MERGE
+    elif method == METHOD_INSERT:
+        if fp[FP_PENDING] >= h:
+            return MESH_SPLIT
+        if fp[FP_PENDING] <= -h and n > 3:
+            return MESH_MERGE
+    return MESH_KEEP
+
+
+@njit(cache=True)
+def _remesh(x, v, rest, st, fp, acc, n, order, feed, u0, v0, action):
+    """Split or merge the reel element ('ale'), or insert or remove a whole element at the reel
+    ('insert'), as :func:`_mesh_action` says; the tether's energy change by it into the reshape flow.
+    """
+    h = fp[FP_H]
+    e_before = energy(x, v, rest, n, fp, order)
+    if st[ST_METHOD] == METHOD_ALE:
+        if action == MESH_SPLIT:
+            if order == 1:
+                _split(x, v, rest, st, fp, u0)
+            else:
+                _split_quadratic(x, v, rest, st, fp, u0)
+        elif order == 1:
+            owed = _merge(x, v, rest, st, fp, u0, v0, feed, True)
+            fp[FP_OWED] += owed
+            acc[ACC_OWED] += owed
+        else:
+            _merge_quadratic(x, v, rest, st, fp, u0, v0, feed)
+    elif action == MESH_SPLIT:
+        rest[0] += h
+        fp[FP_PENDING] -= h
+        _split(x, v, rest, st, fp, v0)
+    else:
+        _merge(x, v, rest, st, fp, v0, v0, 0.0, False)
+        rest[0] -= h
+        fp[FP_PENDING] += h
+    if st[ST_NODES] != n:
+        change = energy(x, v, rest, st[ST_NODES], fp, order) - e_before
+        acc[ACC_RESHAPE] += change
+        acc[ACC_THROUGHPUT] += abs(change)
 
 
 @njit(cache=True)
