@@ -6,8 +6,11 @@ Reference scene: the Chapter 9 pendulum with a point mass (the scene MoorDyn can
 10 ms, and the end-mass error against (a) the same model at a 20x smaller RK4 step
 (time-stepping error) and (b) quadratic N = 50 at a small step (the converged string),
 both over 0-3 s, before slack-taut snaps make the motion chaotic. MoorDyn 2.7.2 runs the
-same scene "in air" in the same process. Prints a table, the performance-goal verdicts,
-and writes table.csv, pareto.png and summary.txt.
+same scene "in air" in the same process, and so does the tether plant every scene runs
+(``tether_dynamics.plant``: lumped masses, symplectic Euler, its reel held, its UAV body a
+point mass), stepped every 10 ms through its public ``TetherPlant.step`` as the plant node
+steps it. Prints a table, the performance-goal verdicts, and writes table.csv, pareto.png
+and summary.txt.
 
 Run:  ./tethersim-env python bench/fem_tradeoff/run.py [--quick] [--out DIR]
 """
@@ -35,6 +38,8 @@ from tether_dynamics.fem import diagnostics, scenes  # noqa: E402
 from tether_dynamics.fem.errors import DivergenceError  # noqa: E402
 from tether_dynamics.fem.integrators import simulate, warm_up  # noqa: E402
 from tether_dynamics.fem.model import compile_scene, stable_step  # noqa: E402
+from tether_dynamics.plant import PlantConfig, PlantInputs, ReelConfig, TetherPlant, UavConfig  # noqa: E402
+from tether_dynamics.plant.fem_reel import PlantDivergenceError, accepted_step  # noqa: E402
 from tether_models.constants import GRAVITY  # noqa: E402
 
 SPAN = 10.0
@@ -45,6 +50,9 @@ MOORDYN_STEPS = (5e-3, 4e-3, 2.5e-3, 2e-3, 1e-3, 5e-4, 2.5e-4, 1e-4)
 # MoorDyn's "largest stable step": the largest dtM whose energy error stays below this
 # (larger steps finish but drift by percent or blow up; cf. <= 1.6e-3 in the peer notes).
 MOORDYN_STABLE_ENERGY = 2e-3
+# The plant's steps, as fractions of the step it accepts, from the largest down until its energy
+# error is a quarter of MoorDyn's stable bound (symplectic Euler's error is first order in the step).
+PLANT_FRACTIONS = (1.0, 0.5, 0.25, 0.12)
 # Equal-accuracy comparison of the element types: end-mass error vs quadratic N = 50.
 EQUAL_ACCURACY_M = 6e-3
 
@@ -189,6 +197,40 @@ def moordyn_run(n: int, dt: float, workdir: Path, scheme: str = 'RK4', span: flo
     return wall, t, pos[:, -1], kinetic + gravity + elastic, kinetic
 
 
+def plant_config(element: str, n: int, dt: float) -> PlantConfig:
+    """The pendulum as the tether plant runs it: pivot at the guide way, the reel held, the end a point mass."""
+    return PlantConfig(fidelity=element, elements=n, dt=dt, initial_length=scenes.PENDULUM_LENGTH,
+                       guide_way_offset=scenes.PENDULUM_PIVOT, mass_per_length=scenes.PENDULUM_MU,
+                       ea=scenes.PENDULUM_EA, gravity=GRAVITY,
+                       reel=ReelConfig(input='spool_rate', min_length=0.5, max_length=2.0 * scenes.PENDULUM_LENGTH),
+                       uav=UavConfig(mode='dynamic', mass=scenes.PENDULUM_MASS, attach_offset=(0.0, 0.0, 0.0)))
+
+
+def plant_run(element: str, n: int, dt: float, span: float = SPAN):  # noqa: ANN201
+    """The plant on the pendulum; returns (wall, t, end positions, total E, kinetic E), energies from the
+    plant's own accounts (tether kinetic, gravity and strain, plus the end body's), or None if it diverged.
+    """
+    plant = TetherPlant(plant_config(element, n, dt))
+    release = np.array(scenes.PENDULUM_RELEASE)
+    n_out = int(round(span / SAMPLE))
+    t, end = SAMPLE * np.arange(n_out + 1), np.empty((n_out + 1, 3))
+    total, kinetic = np.empty(n_out + 1), np.empty(n_out + 1)
+    wall = 0.0
+    for k in range(n_out + 1):
+        start = time.perf_counter()
+        try:
+            out = plant.step(t[k], PlantInputs(uav_position=release))
+        except PlantDivergenceError:
+            return None
+        wall += time.perf_counter() - start
+        body_kinetic = 0.5 * scenes.PENDULUM_MASS * float(out.uav_velocity @ out.uav_velocity)
+        end[k] = out.uav_position
+        kinetic[k] = out.kinetic_energy + body_kinetic
+        total[k] = (kinetic[k] + out.potential_energy + out.strain_energy
+                    + scenes.PENDULUM_MASS * GRAVITY * out.uav_position[2])
+    return wall, t, end, total, kinetic
+
+
 def jit_costs() -> tuple[float, float]:
     """Cold compile and cached load of every kernel, each in a fresh process with its own cache."""
     code = 'from tether_dynamics.fem.integrators import warm_up; print(warm_up())'
@@ -202,7 +244,7 @@ def jit_costs() -> tuple[float, float]:
 def pareto_plot(rows: list[Row], path: Path) -> None:
     """Energy error and end-mass error against wall time, one marker per run."""
     fig, axes = plt.subplots(1, 2, figsize=(13, 5))
-    styles = {'linear': 'o', 'quadratic': 's', 'moordyn': '^'}
+    styles = {'linear': 'o', 'quadratic': 's', 'moordyn': '^', 'plant-linear': 'D', 'plant-quadratic': 'P'}
     colors = {5: 'tab:blue', 10: 'tab:orange', 20: 'tab:green', 50: 'tab:red'}
     for r in rows:
         mk = styles[r.model]
@@ -266,6 +308,23 @@ def main(argv: list[str] | None = None) -> int:  # noqa: C901, PLR0912, PLR0915
                 rows.append(Row(element, n, method, dt, wall, energy_error(d.total, d.kinetic),
                                 end_error(traj.t, traj.nodes[:, -1], fine.t, fine.nodes[:, -1]),
                                 end_error(traj.t, traj.nodes[:, -1], ref.t, ref.nodes[:, -1])))
+    for element in ('linear', 'quadratic'):
+        plant_run(element, 5, grid_dt(accepted_step(plant_config(element, 5, 1e-6))), span=SAMPLE)  # compile
+        for n in ns:
+            limit = accepted_step(plant_config(element, n, 1e-6))
+            fine_plant = plant_run(element, n, grid_dt(limit / 20), span=TRAJ_WINDOW + SAMPLE)
+            for fraction in PLANT_FRACTIONS:
+                dt = grid_dt(fraction * limit)
+                log(f'plant {element} N={n} dt={dt:.3g}...')
+                res = plant_run(element, n, dt)
+                if res is None or fine_plant is None:
+                    log('  diverged')
+                    continue
+                wall, t, end, total, kinetic = res
+                rows.append(Row(f'plant-{element}', n, 'euler', dt, wall, energy_error(total, kinetic),
+                                end_error(t, end, fine_plant[1], fine_plant[2]), end_error(t, end, ref.t, ref.nodes[:, -1])))
+                if rows[-1].energy_err < 0.25 * MOORDYN_STABLE_ENERGY:
+                    break
     moordyn_largest: dict[int, Row] = {}
     with tempfile.TemporaryDirectory() as work:
         for n in ns:
@@ -309,7 +368,7 @@ def main(argv: list[str] | None = None) -> int:  # noqa: C901, PLR0912, PLR0915
         if md is None:
             lines.append(f'  N={n}: MoorDyn had no stable step in the list')
             continue
-        ours = [r for r in rows if r.model != 'moordyn' and r.n == n and r.energy_err <= md.energy_err]
+        ours = [r for r in rows if r.model in ('linear', 'quadratic') and r.n == n and r.energy_err <= md.energy_err]
         if not ours:
             lines.append(f'  N={n}: no FEM run reached MoorDyn energy error {md.energy_err:.2e}: NOT MET')
             continue
@@ -318,6 +377,14 @@ def main(argv: list[str] | None = None) -> int:  # noqa: C901, PLR0912, PLR0915
         lines.append(f'  N={n}: MoorDyn largest stable RK4 step {md.dt:g} s: {md.wall:.4f} s, energy error '
                      f'{md.energy_err:.2e}; fastest FEM at <= that error: {best.model} {best.method} dt {best.dt:.3g}: '
                      f'{best.wall:.4f} s -> {md.wall / best.wall:.1f}x MoorDyn ({verdict})')
+        plant = [r for r in rows if r.model.startswith('plant-') and r.n == n and r.energy_err <= md.energy_err]
+        if plant:
+            fastest = min(plant, key=lambda r: r.wall)
+            lines.append(f'  N={n}: fastest plant (the scenes\' engine) at <= that error: {fastest.model} dt {fastest.dt:.3g}: '
+                         f'{fastest.wall:.4f} s -> {md.wall / fastest.wall:.1f}x MoorDyn, '
+                         f'{best.wall / fastest.wall:.2f}x the fem engine')
+        else:
+            lines.append(f'  N={n}: no plant run reached MoorDyn energy error {md.energy_err:.2e}')
     threshold = 1.6e-3
     for n in ns:
         best = {}

@@ -308,3 +308,37 @@ def test_lowest_point_and_node_arc_kernels_against_dense_sampling_and_cumulative
     np.testing.assert_array_equal(arc[::order], ends)
     if order == 2:
         np.testing.assert_array_equal(arc[1::2], ends[:-1] + 0.5 * rest)
+
+
+def _pendulum_energy_error(dt: float, elements: int = 5, span: float = 3.0) -> float:
+    """The Chapter 9 pendulum on the plant (reel held, a 0.432 kg point mass on a dynamic UAV end):
+    max |E - E0| / peak kinetic energy, E the tether's energies plus the end body's.
+    """
+    mass, release = 0.432, np.array([-0.1456, -5.7318, -1.1417])
+    cfg = PlantConfig(fidelity='linear', elements=elements, dt=dt, initial_length=5.875, guide_way_offset=(0, 0, 0),
+                      mass_per_length=0.03, ea=1000.0,
+                      uav=UavConfig(mode='dynamic', mass=mass, attach_offset=(0.0, 0.0, 0.0)))
+    plant = TetherPlant(cfg)
+    total, kinetic = [], []
+    for k in range(int(round(span / 0.01)) + 1):
+        out = plant.step(0.01 * k, PlantInputs(uav_position=release))
+        body = 0.5 * mass * float(out.uav_velocity @ out.uav_velocity)
+        kinetic.append(out.kinetic_energy + body)
+        total.append(kinetic[-1] + out.potential_energy + out.strain_energy + mass * G * out.uav_position[2])
+    return float(np.max(np.abs(np.array(total) - total[0])) / max(kinetic))
+
+
+@pytest.mark.xfail(strict=True, reason="a dynamic end body carries its node's lump's weight, not its inertia")
+def test_a_dynamic_end_body_carries_its_lump_so_the_pendulum_keeps_its_energy() -> None:
+    """The end node's lump moves with the body, so its weight and its inertia should both be the
+    body's. Today only its weight is (``_end_flows`` adds it to the body's force, ``advance`` steps
+    the body with the UAV's mass alone): the pendulum gains 3.7 % of its peak kinetic energy at
+    N = 5 whatever the step. Adding the lump to the body's mass makes the error the step's
+    (2.2e-3, 5.7e-4, 1.4e-4 at 1, 1/4 and 1/16 of the accepted step) but leaves a reel-in merge's
+    tension step that no longer halves with the step (test_reel_tension_has_no_step_at_splits_and_merges,
+    linear reel-in: 0.082, 0.053, 0.039 N at 2e-4, 1e-4, 5e-5 s), so that fix waits for the merge's.
+    Only the plant's 'dynamic' UAV mode (tests and benchmarks) is affected; the scenes prescribe the UAV.
+    """
+    coarse, fine = _pendulum_energy_error(2.5e-3), _pendulum_energy_error(6.25e-4)
+    assert coarse < 5e-3
+    assert fine < 0.4 * coarse
