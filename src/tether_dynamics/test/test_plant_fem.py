@@ -334,10 +334,16 @@ def test_a_dynamic_end_body_carries_its_lump_so_the_pendulum_keeps_its_energy() 
     body's. Today only its weight is (``_end_flows`` adds it to the body's force, ``advance`` steps
     the body with the UAV's mass alone): the pendulum gains 3.7 % of its peak kinetic energy at
     N = 5 whatever the step. Adding the lump to the body's mass makes the error the step's
-    (2.2e-3, 5.7e-4, 1.4e-4 at 1, 1/4 and 1/16 of the accepted step) but leaves a reel-in merge's
-    tension step that no longer halves with the step (test_reel_tension_has_no_step_at_splits_and_merges,
-    linear reel-in: 0.082, 0.053, 0.039 N at 2e-4, 1e-4, 5e-5 s), so that fix waits for the merge's.
-    Only the plant's 'dynamic' UAV mode (tests and benchmarks) is affected; the scenes prescribe the UAV.
+    (2.2e-3, 5.7e-4, 1.4e-4 at 1, 1/4 and 1/16 of the accepted step) but then a reel-in merge's
+    tension step no longer halves with the step (test_reel_tension_has_no_step_at_splits_and_merges,
+    linear reel-in: 0.082, 0.053, 0.039 N at 2e-4, 1e-4, 5e-5 s). That step was there before, under
+    the bounce's physical change: ``exit_tension`` carries the reel element's tension from its
+    midpoint to the guide way with node 1's whole acceleration over half the element, and a merge
+    lengthens that half from 0.18 m to 0.67 m, so the term jumps by about mu l_1 a / 2 (0.025 N
+    measured, two steps after the 3-to-2 merge when node 1's acceleration is next taken; taking
+    node 2's at the merge moves the jump to the merge without shrinking it). So the lump fix
+    waits for that term. Only the plant's 'dynamic' UAV mode (tests and benchmarks) is affected;
+    the scenes prescribe the UAV.
     """
     coarse, fine = _pendulum_energy_error(2.5e-3), _pendulum_energy_error(6.25e-4)
     assert coarse < 5e-3
