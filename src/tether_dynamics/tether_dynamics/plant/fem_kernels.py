@@ -575,7 +575,8 @@ def advance(x, v, rest, st, fp, rs, rp, g_tab, u_tab, t_a, t_b, n_sub, bs, inert
         _weight_and_drag(x, v, rest, n, order, st, fp, f, drag, acc, dt)
         feed = _winch(st, fp, rs, rp, t_exit, k, n_sub, dt)
         if st[ST_BODY] == 1:
-            body_step(bs, fp[FP_UAV_MASS], inertia, inertia_inv, rho, fp[FP_THRUST], torque, force_uav, fp[FP_G], dt)
+            body_mass = fp[FP_UAV_MASS] + lump(rest, n, order, fp[FP_MU], n - 1)
+            body_step(bs, body_mass, inertia, inertia_inv, rho, fp[FP_THRUST], torque, force_uav, fp[FP_G], dt)
         _accelerate(v, rest, n, order, method, fp, feed, u0, f, acc, dt)
         _rest_change_flow(x, rest, n, order, method, fp, feed, tens, tkv, tangents, mesh, acc, dt)
         if kv_on:
@@ -644,7 +645,10 @@ def _note_tension_jump(acc, t_exit, t):
 def _end_flows(f, rest, n, order, fp, v0, vf, force_uav, acc, dt):
     """The energy flow through the moving ends: the tether's forces on them, and the
     gravitational energy of the kinematic end lumps (part of the counted potential energy);
-    the tether's force on the UAV (with its end lump's weight) into force_uav.
+    the elements' force on the UAV end's node into force_uav. A dynamic UAV carries that node's
+    lump: its weight and inertia are the body's (``advance`` adds the lump to the body's mass;
+    the lump's moments about the centre of mass, of its weight and of its inertia at the
+    attachment offset, are left out).
     """
     mu, g = fp[FP_MU], fp[FP_G]
     m_first, m_last = lump(rest, n, order, mu, 0), lump(rest, n, order, mu, n - 1)
@@ -652,7 +656,6 @@ def _end_flows(f, rest, n, order, fp, v0, vf, force_uav, acc, dt):
     for c in range(3):
         p_ends -= f[0, c] * v0[c] + f[n - 1, c] * vf[c]
         force_uav[c] = f[n - 1, c]
-    force_uav[2] -= m_last * g
     acc[ACC_ENDS] += dt * p_ends
     acc[ACC_THROUGHPUT] += dt * abs(p_ends)
 
