@@ -26,21 +26,22 @@ options (``cli_args``). The bringup writes the group's spec file (YAML) and star
 from __future__ import annotations
 
 import sys
+from collections.abc import Mapping
 from importlib.metadata import EntryPoint
-from importlib.metadata import entry_points
 from pathlib import Path
 
 import yaml
+
+from tether_common.node_entry_points import node_entry_points
 
 GROUP_NAME = 'nodes'
 """Name of the group's process in the run summary and of its log file."""
 ENTRY_POINTS = 'tethersim.nodes'
 
 
-def node_classes() -> dict[tuple[str, str], EntryPoint]:
+def node_classes() -> Mapping[tuple[str, str], EntryPoint]:
     """The node classes that can join a group, by (package, executable); read from metadata, nothing imported."""
-    return {(entry.dist.name.replace('-', '_') if entry.dist else '', entry.name): entry
-            for entry in entry_points(group=ENTRY_POINTS)}
+    return node_entry_points(ENTRY_POINTS)
 
 
 def write_spec(path: Path, cpu_file: Path, members: list[tuple[str, str, str, Path]], record_fd: int = -1) -> None:

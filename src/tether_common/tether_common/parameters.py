@@ -10,11 +10,14 @@ bringup validates a scene's values against the same specification before anythin
 from __future__ import annotations
 
 import math
+from collections.abc import Mapping
 from dataclasses import dataclass, field
-from importlib.metadata import entry_points
+from importlib.metadata import EntryPoint
 from pathlib import Path
 from types import ModuleType
 from typing import Any
+
+from tether_common.node_entry_points import node_entry_points
 
 ParamValue = bool | int | float | str | list
 
@@ -171,7 +174,6 @@ def parameter_module(package: str, executable: str) -> ModuleType | None:
     return entry.load() if entry is not None else None
 
 
-def specified_nodes() -> dict[tuple[str, str], Any]:
+def specified_nodes() -> Mapping[tuple[str, str], EntryPoint]:
     """Every registered parameters module's entry point, by (package, executable); nothing imported."""
-    return {(entry.dist.name.replace('-', '_') if entry.dist else '', entry.name): entry
-            for entry in entry_points(group=PARAMETERS_GROUP)}
+    return node_entry_points(PARAMETERS_GROUP)
