@@ -61,4 +61,4 @@ docs: $(STAMP_BUILD)
 	./tethersim-env python tools/docs.py $(ARGS)
 
 clean:
-	rm -rf build install log $(VENV) $(LIVE_CLIENT)/node_modules
+	rm -rf build install log .cache $(VENV) $(LIVE_CLIENT)/node_modules
