@@ -2,7 +2,7 @@
 
 - Tests write only under pytest's temporary paths: the checkout is listed before and
   after the session; a file or directory that appeared outside the build products
-  (``build``, ``install``, ``log``, the venv, caches) fails the session and is named, so a
+  (``build``, ``install``, ``log``, the venv, caches, ``.cache`` of the compiled kernels) fails the session and is named, so a
   test that forgets ``--out tmp_path`` cannot go unnoticed.
 - ``make test`` runs the suite on two workers (pytest-xdist, a file per worker at a time,
   handed out in collection order: ``--no-loadscope-reorder``, since xdist would otherwise
@@ -26,7 +26,7 @@ import domain_coordinator
 import pytest
 
 ROOT = Path(__file__).resolve().parent
-NOT_CHECKED = frozenset({'.git', '.venv', 'build', 'install', 'log', '__pycache__', '.pytest_cache',
+NOT_CHECKED = frozenset({'.git', '.venv', 'build', 'install', 'log', '__pycache__', '.cache', '.pytest_cache',
                          '.mypy_cache', '.ruff_cache'})
 
 
