@@ -52,12 +52,8 @@ def imported_files(src: Path, path: Path) -> set[Path]:
     files: set[Path] = set()
     for module, names in imported_modules(path):
         submodules = [module_file(src, f'{module}.{name}') for name in names]
-        if names and all(submodules):
-            files.update(p for p in submodules if p is not None)
-            continue
-        found = module_file(src, module)
-        if found is not None:
-            files.add(found)
+        if not names or None in submodules:
+            submodules.append(module_file(src, module))
         files.update(p for p in submodules if p is not None)
     return files
 
