@@ -11,6 +11,7 @@ import re
 import numpy as np
 import pytest
 
+from tether_dynamics import laws
 from tether_dynamics.fem import kernels, scenes
 from tether_dynamics.fem.effects import Drag, KelvinVoigt, Wind
 from tether_dynamics.fem.model import compile_scene
@@ -70,16 +71,17 @@ def test_builder_puts_each_value_where_the_kernels_read_it(element: str) -> None
     assert list(fp[kernels.FP_GRAVITY:kernels.FP_GRAVITY + 3]) == list(scene.gravity)
     assert fp[kernels.FP_END_MASS] == scenes.PENDULUM_MASS
     assert fp[kernels.FP_KV_C] == 7.0
-    assert fp[kernels.FP_CD_NORMAL] == 1.1
-    assert fp[kernels.FP_DIAMETER] == 0.002
-    assert list(fp[kernels.FP_WIND_U:kernels.FP_WIND_U + 3]) == [3.0, -1.0, 0.5]
+    air = fp[kernels.FP_AIR:kernels.FP_AIR + len(laws.AIR_FIELDS)]
+    assert air[laws.AIR_CD_NORMAL] == 1.1
+    assert air[laws.AIR_HALF_RHO_D] == 0.5 * Drag(0.002).air_density * 0.002
+    assert list(air[laws.AIR_WIND:laws.AIR_WIND + 3]) == [3.0, -1.0, 0.5]
     assert fp[kernels.FP_TABLE_DT] == 2e-3
     assert fp[kernels.FP_STRAIN_LIMIT] == scene.strain_limit
     assert ip[kernels.IP_ELEMENT] == (1 if element == 'linear' else 2)
     assert ip[kernels.IP_N_ELEM] == 4
     assert ip[kernels.IP_N_ALL] == tet.n_nodes
     assert ip[kernels.IP_END_KIND] == 2
-    assert (ip[kernels.IP_KV_ON], ip[kernels.IP_DRAG_ON], ip[kernels.IP_WIND_ON]) == (1, 1, 1)
+    assert (ip[kernels.IP_KV_ON], ip[kernels.IP_DRAG_ON]) == (1, 1)
     assert ip[kernels.IP_N_Q] == model.basis.shape[1]
     assert ip[kernels.IP_FREE_FIRST] == model.free[0]
     assert mdl[kernels.MDL_X].shape == (tet.n_nodes, 3)

@@ -46,8 +46,11 @@ def test_the_accepted_step_is_stable_on_the_hard_case(fidelity: str, n: int, dam
     assert at_limit['ended'] == 'ok' and small['ended'] == 'ok'
     assert at_limit['residual_share'] < 0.2
     assert at_limit['peak_uav_N'] < 2.0 * small['peak_uav_N']
-    if damping > 0.0 and fidelity == 'linear':   # damped linear elements: peaks 114.4-118.9 N from 0.3 to 0.9
-        assert at_limit['peak_uav_N'] == pytest.approx(small['peak_uav_N'], rel=0.05)
+    # Damped linear elements: peaks 105-125 N over steps of 0.3 to 0.9 of the estimate; the
+    # peak is a snap's, and round-off alone moves it (at 0.9: 114.4 N or 105.5 N with the
+    # strain rate computed as (c d.w) / (|d| l0) or c (d.w / l0) / |d|), hence 15 %.
+    if damping > 0.0 and fidelity == 'linear':
+        assert at_limit['peak_uav_N'] == pytest.approx(small['peak_uav_N'], rel=0.15)
 
 
 def test_a_step_past_the_margin_is_refused_and_a_blow_up_is_stopped(monkeypatch) -> None:

@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import numpy as np
 
-GAUSS = np.array([-1.0 / np.sqrt(3.0), 1.0 / np.sqrt(3.0)])
+from tether_dynamics.laws import GAUSS
 
 
 def shape(zeta: np.ndarray) -> np.ndarray:

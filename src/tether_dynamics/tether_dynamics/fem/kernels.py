@@ -39,34 +39,30 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-SQRT3_INV = 1.0 / np.sqrt(3.0)
-# The 2-point Gauss points zeta = -+1/sqrt3 of a quadratic element as its B-spline parameter u = (1 + zeta) / 2.
-GAUSS_U = (0.5 - 0.5 * SQRT3_INV, 0.5 + 0.5 * SQRT3_INV)
-STATUS_OK = 0
-STATUS_NONFINITE = 1
-STATUS_STRAIN = 2
+from tether_dynamics.laws import (AIR_FIELDS, GAUSS, STATUS_NONFINITE, STATUS_OK, STATUS_STRAIN, add_element_drag,
+                                  kelvin_voigt, segment_strain)
 
-IP_FIELDS = ('element', 'n_all', 'n_elem', 'free_first', 'free_end', 'end_kind', 'kv_on', 'drag_on', 'wind_on',
-             'n_kin', 'n_samples', 'tension_only', 'moving', 'n_q')
+# The 2-point Gauss points of a quadratic element as its B-spline parameter u = (1 + zeta) / 2.
+GAUSS_U = (0.5 + 0.5 * GAUSS[0], 0.5 + 0.5 * GAUSS[1])
+
+IP_FIELDS = ('element', 'n_all', 'n_elem', 'free_first', 'free_end', 'end_kind', 'kv_on', 'drag_on', 'n_kin',
+             'n_samples', 'tension_only', 'moving', 'n_q')
 """ip (int64): element type (1 linear, 2 quadratic), number of nodes, number of elements,
 first free node, one past the last free node, end kind (0 kinematic, 1 point mass, 2 rigid
-body), Kelvin-Voigt on, drag on, wind on, number of kinematic nodes, samples per kinematic
-table, tension-only, any prescribed (moving) end, number of generalised coordinates n_q."""
-(IP_ELEMENT, IP_N_ALL, IP_N_ELEM, IP_FREE_FIRST, IP_FREE_END, IP_END_KIND, IP_KV_ON, IP_DRAG_ON, IP_WIND_ON,
- IP_N_KIN, IP_N_SAMPLES, IP_TENSION_ONLY, IP_MOVING, IP_N_Q) = range(len(IP_FIELDS))
+body), Kelvin-Voigt on, drag on (with the wind; its velocity is zero when there is none),
+number of kinematic nodes, samples per kinematic table, tension-only, any prescribed
+(moving) end, number of generalised coordinates n_q."""
+(IP_ELEMENT, IP_N_ALL, IP_N_ELEM, IP_FREE_FIRST, IP_FREE_END, IP_END_KIND, IP_KV_ON, IP_DRAG_ON, IP_N_KIN,
+ IP_N_SAMPLES, IP_TENSION_ONLY, IP_MOVING, IP_N_Q) = range(len(IP_FIELDS))
 
-FP_FIELDS = (('ea', 1), ('l0', 1), ('mu', 1), ('gravity', 3), ('end_mass', 1), ('kv_c', 1), ('air_density', 1),
-             ('cd_normal', 1), ('cd_tangential', 1), ('diameter', 1), ('wind_u', 3), ('wind_z_ref', 1),
-             ('wind_alpha', 1), ('wind_z_ground', 1), ('table_t0', 1), ('table_dt', 1), ('end_force', 3),
-             ('strain_limit', 1), ('c_last', 1))
+FP_FIELDS = (('ea', 1), ('l0', 1), ('mu', 1), ('gravity', 3), ('end_mass', 1), ('kv_c', 1), ('air', len(AIR_FIELDS)),
+             ('table_t0', 1), ('table_dt', 1), ('end_force', 3), ('strain_limit', 1), ('c_last', 1))
 """fp (float64), (name, width): EA (N), element rest length l0 (m), mu (kg/m), gravity (3,
-m/s^2), end mass (kg), Kelvin-Voigt coefficient (N s), air density (kg/m^3), Cd normal,
-Cd tangential, diameter (m), wind velocity (3, m/s), wind reference height (m), wind
-shear exponent, wind ground height (m), kinematic-table start time and step (s), constant
+m/s^2), end mass (kg), Kelvin-Voigt coefficient (N s), the air block of drag and wind
+(:data:`tether_dynamics.laws.AIR_FIELDS`), kinematic-table start time and step (s), constant
 end force (3, N), strain limit, z_last . W_last (the last free node's entry of the
 constrained inverse mass)."""
-(FP_EA, FP_L0, FP_MU, FP_GRAVITY, FP_END_MASS, FP_KV_C, FP_AIR_DENSITY, FP_CD_NORMAL, FP_CD_TANGENTIAL,
- FP_DIAMETER, FP_WIND_U, FP_WIND_Z_REF, FP_WIND_ALPHA, FP_WIND_Z_GROUND, FP_TABLE_T0, FP_TABLE_DT, FP_END_FORCE,
+(FP_EA, FP_L0, FP_MU, FP_GRAVITY, FP_END_MASS, FP_KV_C, FP_AIR, FP_TABLE_T0, FP_TABLE_DT, FP_END_FORCE,
  FP_STRAIN_LIMIT, FP_C_LAST) = tuple(int(i) for i in np.cumsum([0] + [w for _, w in FP_FIELDS])[:-1])
 FP_SIZE = sum(w for _, w in FP_FIELDS)
 
@@ -196,32 +192,6 @@ def _unpack(y, ip, x, v, velocities, z_cols, z_vals, h_op, kin_idx):
         _to_nodes(y, 3 * ip[IP_N_Q], ip, z_cols, z_vals, h_op, kin_idx, v)
 
 
-@njit(cache=True, inline='always')
-def _wind(z, fp):
-    """Wind velocity at height z (uniform if alpha = 0, else power-law shear)."""
-    if fp[FP_WIND_ALPHA] == 0.0:
-        return fp[FP_WIND_U], fp[FP_WIND_U + 1], fp[FP_WIND_U + 2]
-    dz = z - fp[FP_WIND_Z_GROUND]
-    if dz <= 0.0:
-        return 0.0, 0.0, 0.0
-    s = (dz / fp[FP_WIND_Z_REF]) ** fp[FP_WIND_ALPHA]
-    return fp[FP_WIND_U] * s, fp[FP_WIND_U + 1] * s, fp[FP_WIND_U + 2] * s
-
-
-@njit(cache=True, inline='always')
-def _tension(length, l_dot_l, ea, l0, kv_on, c_kv, tension_only):
-    """Axial force at one point: EA eps (+ c deps/dt), zero if eps <= 0 (tension-only, Sec. 9.1.2)."""
-    eps = length * (1.0 / l0) - 1.0
-    if eps <= 0.0 and tension_only:
-        return 0.0
-    t = ea * eps
-    if kv_on:
-        t += c_kv * l_dot_l / (length * l0)
-        if t < 0.0 and tension_only:
-            t = 0.0
-    return t
-
-
 @njit(cache=True, _nrt=False)
 def _linear_forces(ip, fp, x, v, f):
     """Add the linear elements' forces to F (Eq. 8.8/8.10).
@@ -229,7 +199,7 @@ def _linear_forces(ip, fp, x, v, f):
     Returns the largest element length and its element: the strain check of the steppers
     comes with the forces at no extra cost.
     """
-    ea, l0, c_kv = fp[FP_EA], fp[FP_L0], fp[FP_KV_C]
+    ea, inv_l0, c_kv = fp[FP_EA], 1.0 / fp[FP_L0], fp[FP_KV_C]
     kv_on = ip[IP_KV_ON] == 1
     tension_only = ip[IP_TENSION_ONLY] == 1
     worst, where = -1.0, 0
@@ -237,14 +207,13 @@ def _linear_forces(ip, fp, x, v, f):
         d0 = x[e + 1, 0] - x[e, 0]
         d1 = x[e + 1, 1] - x[e, 1]
         d2 = x[e + 1, 2] - x[e, 2]
-        length = np.sqrt(d0 * d0 + d1 * d1 + d2 * d2)
+        w0 = w1 = w2 = 0.0
+        if kv_on:
+            w0, w1, w2 = v[e + 1, 0] - v[e, 0], v[e + 1, 1] - v[e, 1], v[e + 1, 2] - v[e, 2]
+        length, eps, rate = segment_strain(d0, d1, d2, w0, w1, w2, inv_l0)
         if length > worst:
             worst, where = length, e
-        ldl = 0.0
-        if kv_on:
-            ldl = (d0 * (v[e + 1, 0] - v[e, 0]) + d1 * (v[e + 1, 1] - v[e, 1])
-                   + d2 * (v[e + 1, 2] - v[e, 2]))
-        t = _tension(length, ldl, ea, l0, kv_on, c_kv, tension_only)
+        t = kelvin_voigt(eps, rate, ea, c_kv, tension_only)[0]
         if t != 0.0:
             q = t / length
             f[e, 0] += q * d0
@@ -284,7 +253,7 @@ def _spline_forces(ip, fp, cp, cv, qf, q):
     same virtual work as the nodal stencil, Z^T F, without forming the nodes. Returns the
     largest l0 |r'| over Gauss points (the element length at that stretch) and its element.
     """
-    ea, l0, c_kv = fp[FP_EA], fp[FP_L0], fp[FP_KV_C]
+    ea, inv_l0, c_kv = fp[FP_EA], 1.0 / fp[FP_L0], fp[FP_KV_C]
     kv_on = ip[IP_KV_ON] == 1
     tension_only = ip[IP_TENSION_ONLY] == 1
     worst, where = -1.0, 0
@@ -298,16 +267,15 @@ def _spline_forces(ip, fp, cp, cv, qf, q):
             l_0 = (1.0 - u) * (cp[j + 1, 0] - cp[j, 0]) + u * (cp[j + 2, 0] - cp[j + 1, 0])
             l_1 = (1.0 - u) * (cp[j + 1, 1] - cp[j, 1]) + u * (cp[j + 2, 1] - cp[j + 1, 1])
             l_2 = (1.0 - u) * (cp[j + 1, 2] - cp[j, 2]) + u * (cp[j + 2, 2] - cp[j + 1, 2])
-            length = np.sqrt(l_0 * l_0 + l_1 * l_1 + l_2 * l_2)
-            if length > worst:
-                worst, where = length, j
-            ldl = 0.0
+            w0 = w1 = w2 = 0.0
             if kv_on:
                 w0 = (1.0 - u) * (cv[j + 1, 0] - cv[j, 0]) + u * (cv[j + 2, 0] - cv[j + 1, 0])
                 w1 = (1.0 - u) * (cv[j + 1, 1] - cv[j, 1]) + u * (cv[j + 2, 1] - cv[j + 1, 1])
                 w2 = (1.0 - u) * (cv[j + 1, 2] - cv[j, 2]) + u * (cv[j + 2, 2] - cv[j + 1, 2])
-                ldl = l_0 * w0 + l_1 * w1 + l_2 * w2
-            t = _tension(length, ldl, ea, l0, kv_on, c_kv, tension_only)
+            length, eps, rate = segment_strain(l_0, l_1, l_2, w0, w1, w2, inv_l0)
+            if length > worst:
+                worst, where = length, j
+            t = kelvin_voigt(eps, rate, ea, c_kv, tension_only)[0]
             if t != 0.0:
                 h = 0.5 * t / length
                 p0 += (1.0 - u) * h * l_0
@@ -337,70 +305,11 @@ def _spline_forces(ip, fp, cp, cv, qf, q):
 
 
 @njit(cache=True, _nrt=False)
-def _shape(npe, g, k, l0):
-    """Shape function k and its d/ds at Gauss point g (2-point rule) of a linear (npe 2) or
-    quadratic (npe 3) element of length l0.
-    """
-    if npe == 2:
-        z = 0.5 - 0.5 * SQRT3_INV if g == 0 else 0.5 + 0.5 * SQRT3_INV
-        if k == 0:
-            return 1.0 - z, -1.0 / l0
-        return z, 1.0 / l0
-    z = -SQRT3_INV if g == 0 else SQRT3_INV
-    if k == 0:
-        return (z * z - z) / 2, (2 * z - 1) / l0
-    if k == 1:
-        return 1 - z * z, -4 * z / l0
-    return (z * z + z) / 2, (2 * z + 1) / l0
-
-
-@njit(cache=True, _nrt=False)
 def _drag_forces(ip, fp, x, v, f):
-    """Add air drag 1/2 rho |u| u C_D A (normal and tangential) at 2 Gauss points per element."""
-    l0 = fp[FP_L0]
-    half_rho_d = 0.5 * fp[FP_AIR_DENSITY] * fp[FP_DIAMETER]
-    cdn, cdt = fp[FP_CD_NORMAL], np.pi * fp[FP_CD_TANGENTIAL]
-    npe = 2 if ip[IP_ELEMENT] == 1 else 3
-    wjac = 0.5 * l0
+    """Add the air drag and wind on every element (:func:`tether_dynamics.laws.add_element_drag`)."""
+    order = ip[IP_ELEMENT]
     for e in range(ip[IP_N_ELEM]):
-        n0 = e * (npe - 1)
-        for g in range(2):
-            r0 = r1 = r2 = 0.0
-            u0 = u1 = u2 = 0.0
-            t0 = t1 = t2 = 0.0
-            for k in range(npe):
-                sh, sl = _shape(npe, g, k, l0)
-                r0 += sh * x[n0 + k, 0]
-                r1 += sh * x[n0 + k, 1]
-                r2 += sh * x[n0 + k, 2]
-                u0 -= sh * v[n0 + k, 0]
-                u1 -= sh * v[n0 + k, 1]
-                u2 -= sh * v[n0 + k, 2]
-                t0 += sl * x[n0 + k, 0]
-                t1 += sl * x[n0 + k, 1]
-                t2 += sl * x[n0 + k, 2]
-            if ip[IP_WIND_ON] == 1:
-                w0, w1, w2 = _wind(r2, fp)
-                u0 += w0
-                u1 += w1
-                u2 += w2
-            stretch = np.sqrt(t0 * t0 + t1 * t1 + t2 * t2)
-            if stretch == 0.0:
-                continue
-            e0, e1, e2 = t0 / stretch, t1 / stretch, t2 / stretch
-            ut = u0 * e0 + u1 * e1 + u2 * e2
-            un0, un1, un2 = u0 - ut * e0, u1 - ut * e1, u2 - ut * e2
-            unm = np.sqrt(un0 * un0 + un1 * un1 + un2 * un2)
-            k_n = half_rho_d * stretch * cdn * unm
-            k_t = half_rho_d * stretch * cdt * abs(ut)
-            fx = k_n * un0 + k_t * ut * e0
-            fy = k_n * un1 + k_t * ut * e1
-            fz = k_n * un2 + k_t * ut * e2
-            for k in range(npe):
-                wk = wjac * _shape(npe, g, k, l0)[0]
-                f[n0 + k, 0] += wk * fx
-                f[n0 + k, 1] += wk * fy
-                f[n0 + k, 2] += wk * fz
+        add_element_drag(x, v, e * order, order, fp[FP_L0], fp, FP_AIR, f)
 
 
 @njit(cache=True, inline='always')

@@ -11,6 +11,7 @@ from tether_dynamics.fem import constraints, elements_linear, elements_quadratic
 from tether_dynamics.fem.effects import Drag, KelvinVoigt, Wind
 from tether_dynamics.fem.end_bodies import FarEnd, Pinned, PointMass, PrescribedMotion, RigidBody, StartEnd
 from tether_dynamics.fem.errors import FemError
+from tether_dynamics.laws import air_block
 from tether_models.constants import GRAVITY
 
 ELEMENTS = {'linear': elements_linear, 'quadratic': elements_quadratic}
@@ -132,6 +133,16 @@ def _kinematic_tables(ends: list, nodes: np.ndarray, t0: float, t1: float,
     return pos, vel, acc, n_s
 
 
+def _air(drag: Drag | None, wind: Wind | None) -> np.ndarray:
+    """The kernels' air block (:func:`tether_dynamics.laws.air_block`): zeros without drag."""
+    if drag is None:
+        return air_block(0.0, 0.0, 0.0, 0.0)
+    if wind is None:
+        return air_block(drag.air_density, drag.diameter, drag.cd_normal, drag.cd_tangential)
+    return air_block(drag.air_density, drag.diameter, drag.cd_normal, drag.cd_tangential, wind.velocity, wind.alpha,
+                     wind.z_ref, wind.z_ground)
+
+
 def compile_scene(scene: Scene, t0: float = 0.0, t1: float = 0.0, sample_dt: float = 1e-3) -> Compiled:
     """Assemble mass (Eq. 8.14 / 8.33), constraints (Eq. 8.41) and loads for the kernels.
 
@@ -191,14 +202,11 @@ def compile_scene(scene: Scene, t0: float = 0.0, t1: float = 0.0, sample_dt: flo
     ip = kernels.pack_ip(
         element=1 if tet.element == 'linear' else 2, n_all=n_all, n_elem=tet.n_elem, free_first=free[0],
         free_end=free[-1] + 1, end_kind=end_kind, kv_on=kv is not None, drag_on=drag is not None,
-        wind_on=wind is not None, n_kin=len(kin_idx), n_samples=n_s, tension_only=tet.tension_only,
+        n_kin=len(kin_idx), n_samples=n_s, tension_only=tet.tension_only,
         moving=any(isinstance(e, PrescribedMotion) for e, _ in kinematic_ends), n_q=z.shape[1])
     fp = kernels.pack_fp(
         ea=tet.ea, l0=l0, mu=tet.mu, gravity=grav, end_mass=mass, kv_c=kv.coefficient if kv else 0.0,
-        air_density=drag.air_density if drag else 0.0, cd_normal=drag.cd_normal if drag else 0.0,
-        cd_tangential=drag.cd_tangential if drag else 0.0, diameter=drag.diameter if drag else 0.0,
-        wind_u=np.asarray(wind.velocity, float) if wind else np.zeros(3), wind_z_ref=wind.z_ref if wind else 1.0,
-        wind_alpha=wind.alpha if wind else 0.0, wind_z_ground=wind.z_ground if wind else 0.0,
+        air=_air(drag, wind),
         table_t0=t0, table_dt=sample_dt, end_force=force, strain_limit=scene.strain_limit,
         c_last=z[-1] @ w_last)
     x_work, v_work = np.array(nodes), np.zeros((n_all, 3))

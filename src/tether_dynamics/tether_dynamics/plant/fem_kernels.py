@@ -23,6 +23,8 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
+from tether_dynamics.laws import (AIR_FIELDS, GAUSS, STATUS_FULL, STATUS_NONFINITE, STATUS_OK, STATUS_SHORT,
+                                  add_element_drag, kelvin_voigt, segment_strain)
 from tether_dynamics.plant.bodies import RP_RADIUS, RS_LENGTH, RS_RATE, body_attach, body_step, reel_step
 from tether_dynamics.plant.energies import tether_energies
 
@@ -39,26 +41,20 @@ MERGE = 0.35
 # node (2/3 of its mass) sets the stable step, so it is kept twice as long as a linear one's.
 SPLIT_QUADRATIC = 1.6
 MERGE_QUADRATIC = 0.5
-# The 2-point Gauss points of a quadratic element (Appendix D.3).
-GAUSS = np.array([-1.0 / np.sqrt(3.0), 1.0 / np.sqrt(3.0)])
-
-# st (int64): nodes in use, method, torque input, dynamic UAV, drag on, wind on, kv on, splits, merges, status,
-# element order (1 linear, 2 quadratic).
-(ST_NODES, ST_METHOD, ST_TORQUE, ST_BODY, ST_DRAG, ST_WIND, ST_KV, ST_SPLITS, ST_MERGES, ST_STATUS,
- ST_ORDER) = range(11)
-ST_SIZE = 11
-STATUS_OK, STATUS_FULL, STATUS_NONFINITE, STATUS_SHORT = 0, 1, 2, 3
+# st (int64): nodes in use, method, torque input, dynamic UAV, drag on (with the wind; zero when there is none),
+# kv on, splits, merges, status (tether_dynamics.laws.STATUS_*), element order (1 linear, 2 quadratic).
+(ST_NODES, ST_METHOD, ST_TORQUE, ST_BODY, ST_DRAG, ST_KV, ST_SPLITS, ST_MERGES, ST_STATUS, ST_ORDER) = range(10)
+ST_SIZE = 10
 # What the mesh does after a step (:func:`_mesh_action`).
 MESH_KEEP, MESH_SPLIT, MESH_MERGE = 0, 1, 2
-# fp (float64): EA, mu, h, g, diameter, Cd normal, Cd tangential, air density, Kelvin-Voigt c,
-# wind (3), reel command, thrust, pending length ('insert'), UAV mass, the last step's feed rate
-# into the reel element, the reel command of the previous call (a spool-rate command ramps from
-# it over the call), the rest length a merge took out of the reel element and still owes it.
-# The last (3) slots: node 1's acceleration in the last step (the reel element's inertia).
-(FP_EA, FP_MU, FP_H, FP_G, FP_DIAMETER, FP_CDN, FP_CDT, FP_RHO, FP_KV, FP_WIND, FP_COMMAND, FP_THRUST,
- FP_PENDING, FP_UAV_MASS, FP_PAYOUT, FP_COMMAND_PREV, FP_OWED, FP_ACC1) = (0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 12, 13, 14,
-                                                                          15, 16, 17, 18, 19)
-FP_SIZE = 22
+# fp (float64): EA, mu, h, g, Kelvin-Voigt c, reel command, thrust, pending length ('insert'),
+# UAV mass, the last step's feed rate into the reel element, the reel command of the previous
+# call (a spool-rate command ramps from it over the call), the rest length a merge took out of
+# the reel element and still owes it; node 1's acceleration in the last step (3, the reel
+# element's inertia); the air block of drag and wind (tether_dynamics.laws.AIR_FIELDS).
+(FP_EA, FP_MU, FP_H, FP_G, FP_KV, FP_COMMAND, FP_THRUST, FP_PENDING, FP_UAV_MASS, FP_PAYOUT, FP_COMMAND_PREV,
+ FP_OWED, FP_ACC1, FP_AIR) = (*range(13), 15)
+FP_SIZE = FP_AIR + len(AIR_FIELDS)
 # Time constant (s) over which the reel element gets back what a merge took out of it.
 PAYBACK = 0.25
 # acc (float64): energy flows into the deployed tether (J): through the moving ends, the
@@ -102,57 +98,27 @@ def _set_ends(x, v, n, body_on, bs, rho, g_tab, u_tab, t_a, t_b, t, p0, v0, pf, 
 
 @njit(cache=True)
 def element_tensions(x, v, rest, n, fp, kv_on, u0, out):
-    """Tension of each element (elastic + Kelvin-Voigt, zero when slack) into out[:n - 1];
+    """Tension of each element (:func:`tether_dynamics.laws.kelvin_voigt`) into out[:n - 1];
     element 0's strain rate uses the material velocity u0 at the guide way.
     """
     ea, c_kv = fp[FP_EA], fp[FP_KV]
     for e in range(n - 1):
-        d0 = x[e + 1, 0] - x[e, 0]
-        d1 = x[e + 1, 1] - x[e, 1]
-        d2 = x[e + 1, 2] - x[e, 2]
-        length = np.sqrt(d0 * d0 + d1 * d1 + d2 * d2)
-        eps = length / rest[e] - 1.0
-        if eps <= 0.0:
-            out[e] = 0.0
-            continue
-        t = ea * eps
+        w0 = w1 = w2 = 0.0
         if kv_on:
             if e == 0:
                 w0, w1, w2 = v[1, 0] - u0[0], v[1, 1] - u0[1], v[1, 2] - u0[2]
             else:
                 w0, w1, w2 = v[e + 1, 0] - v[e, 0], v[e + 1, 1] - v[e, 1], v[e + 1, 2] - v[e, 2]
-            t += c_kv * (d0 * w0 + d1 * w1 + d2 * w2) / (length * rest[e])
-            if t < 0.0:
-                t = 0.0
-        out[e] = t
+        eps, rate = segment_strain(x[e + 1, 0] - x[e, 0], x[e + 1, 1] - x[e, 1], x[e + 1, 2] - x[e, 2],
+                                   w0, w1, w2, 1.0 / rest[e])[1:]
+        out[e] = kelvin_voigt(eps, rate, ea, c_kv, True)[0]
 
 
 @njit(cache=True)
-def _drag(x, v, n, fp, wind_on, f):
-    """Air drag on each element at its midpoint (normal and tangential), half to each node."""
-    half_rho_d = 0.5 * fp[FP_RHO] * fp[FP_DIAMETER]
-    for e in range(n - 1):
-        t0, t1, t2 = x[e + 1, 0] - x[e, 0], x[e + 1, 1] - x[e, 1], x[e + 1, 2] - x[e, 2]
-        length = np.sqrt(t0 * t0 + t1 * t1 + t2 * t2)
-        if length == 0.0:
-            continue
-        e0, e1, e2 = t0 / length, t1 / length, t2 / length
-        u0 = -0.5 * (v[e, 0] + v[e + 1, 0])
-        u1 = -0.5 * (v[e, 1] + v[e + 1, 1])
-        u2 = -0.5 * (v[e, 2] + v[e + 1, 2])
-        if wind_on:
-            u0 += fp[FP_WIND]
-            u1 += fp[FP_WIND + 1]
-            u2 += fp[FP_WIND + 2]
-        ut = u0 * e0 + u1 * e1 + u2 * e2
-        n0, n1, n2 = u0 - ut * e0, u1 - ut * e1, u2 - ut * e2
-        unm = np.sqrt(n0 * n0 + n1 * n1 + n2 * n2)
-        kn = half_rho_d * length * fp[FP_CDN] * unm
-        kt = half_rho_d * length * np.pi * fp[FP_CDT] * abs(ut)
-        for c, (nc, ec) in enumerate(((n0, e0), (n1, e1), (n2, e2))):
-            fc = 0.5 * (kn * nc + kt * ut * ec)
-            f[e, c] += fc
-            f[e + 1, c] += fc
+def _drag(x, v, rest, n, order, fp, f):
+    """Air drag and wind on each element (:func:`tether_dynamics.laws.add_element_drag`) into f."""
+    for e in range((n - 1) // order):
+        add_element_drag(x, v, order * e, order, rest[e], fp, FP_AIR, f)
 
 
 @njit(cache=True)
@@ -356,24 +322,18 @@ def quadratic_forces(x, v, rest, n, fp, kv_on, u0, tens, tkv, f, tangents):
             p = 2 * e + gi
             r = tangents[p]
             _gauss_stretch(x, rest, e, gi, r)
-            lam = np.sqrt(r[0] * r[0] + r[1] * r[1] + r[2] * r[2])
-            r[3] = lam
-            tkv[p] = 0.0
-            if lam <= 1.0:
-                tens[p] = 0.0
-                continue
-            t = ea * (lam - 1.0)
+            w0 = w1 = w2 = 0.0
             if kv_on:
-                rate = 0.0
-                for c in range(3):
-                    va = u0[c] if e == 0 else v[j, c]
-                    rate += r[c] * k * (sa * va + sb * v[j + 1, c] + sc * v[j + 2, c])
-                tkv[p] = c_kv * rate / lam
-                t += tkv[p]
-                if t < 0.0:
-                    tkv[p] -= t
-                    t = 0.0
+                va = u0 if e == 0 else v[j]
+                w0 = k * (sa * va[0] + sb * v[j + 1, 0] + sc * v[j + 2, 0])
+                w1 = k * (sa * va[1] + sb * v[j + 1, 1] + sc * v[j + 2, 1])
+                w2 = k * (sa * va[2] + sb * v[j + 1, 2] + sc * v[j + 2, 2])
+            lam, eps, rate = segment_strain(r[0], r[1], r[2], w0, w1, w2, 1.0)
+            r[3] = lam
+            t, tkv[p] = kelvin_voigt(eps, rate, ea, c_kv, True)
             tens[p] = t
+            if t == 0.0:
+                continue
             for c in range(3):
                 fc = t * r[c] / lam
                 f[j, c] -= fc * sa
@@ -669,7 +629,7 @@ def _weight_and_drag(x, v, rest, n, order, st, fp, f, drag, acc, dt):
     if st[ST_DRAG] != 1:
         return
     drag[:n] = 0.0
-    _drag(x, v, n, fp, st[ST_WIND] == 1, drag)
+    _drag(x, v, rest, n, order, fp, drag)
     p_drag = 0.0
     for i in range(1, n - 1):
         for c in range(3):

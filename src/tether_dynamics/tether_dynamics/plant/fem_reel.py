@@ -101,6 +101,7 @@ import math
 
 import numpy as np
 
+from tether_dynamics.laws import GAUSS, STATUS_FULL, STATUS_NONFINITE, STATUS_SHORT, air_block
 from tether_dynamics.plant import fem_kernels as fk
 from tether_dynamics.plant import quasi_static
 from tether_dynamics.plant.bodies import RS_RATE
@@ -193,7 +194,7 @@ def _quadratic_highest_omega(config: PlantConfig, shortest: float, h: float) -> 
     (shortest, h, h) with lumped masses 1/6, 2/3, 1/6 and 2-point Gauss stiffness (Eq. D.8).
     """
     ea, mu = config.ea, config.mass_per_length
-    slope = 2.0 * np.array([[z - 0.5, -2.0 * z, z + 0.5] for z in fk.GAUSS])
+    slope = 2.0 * np.array([[z - 0.5, -2.0 * z, z + 0.5] for z in GAUSS])
     rests = (shortest, h, h)
     n = 2 * len(rests) + 1
     stiff, mass = np.zeros((n, n)), np.zeros(n)
@@ -213,7 +214,7 @@ def _strain_points(rest: np.ndarray, order: int) -> tuple[np.ndarray, np.ndarray
     if order == 1:
         k = np.arange(rest.size)
         return (np.stack([k, k + 1], axis=1), np.stack([-1.0 / rest, 1.0 / rest], axis=1), rest.copy())
-    slope = np.array([[z - 0.5, -2.0 * z, z + 0.5] for z in fk.GAUSS])
+    slope = np.array([[z - 0.5, -2.0 * z, z + 0.5] for z in GAUSS])
     e = np.repeat(np.arange(rest.size), 2)
     idx = 2 * e[:, None] + np.arange(3)[None, :]
     coef = 2.0 / rest[e][:, None] * np.tile(slope, (rest.size, 1))
@@ -312,15 +313,13 @@ class FemTether:
         self.st[fk.ST_METHOD] = fk.METHODS[cfg.reshape]
         self.st[fk.ST_BODY] = cfg.uav.mode == 'dynamic'
         self.st[fk.ST_DRAG] = 'drag' in cfg.effects
-        self.st[fk.ST_WIND] = 'wind' in cfg.effects
         self.st[fk.ST_KV] = 'damping' in cfg.effects and cfg.damping > 0.0
         self.st[fk.ST_ORDER] = self.order
         self.fp = np.zeros(fk.FP_SIZE)
         self.fp[fk.FP_EA], self.fp[fk.FP_MU], self.fp[fk.FP_H] = cfg.ea, cfg.mass_per_length, h
-        self.fp[fk.FP_G], self.fp[fk.FP_DIAMETER] = cfg.gravity, cfg.diameter
-        self.fp[fk.FP_CDN], self.fp[fk.FP_CDT], self.fp[fk.FP_RHO] = cfg.drag_coefficient, 0.008, cfg.air_density
-        self.fp[fk.FP_KV] = cfg.damping
-        self.fp[fk.FP_WIND:fk.FP_WIND + 3] = cfg.wind
+        self.fp[fk.FP_G], self.fp[fk.FP_KV] = cfg.gravity, cfg.damping
+        wind = cfg.wind if 'wind' in cfg.effects else (0.0, 0.0, 0.0)
+        self.fp[fk.FP_AIR:] = air_block(cfg.air_density, cfg.diameter, cfg.drag_coefficient, 0.008, wind)
         self.fp[fk.FP_UAV_MASS] = cfg.uav.mass
         self.acc = np.zeros(fk.ACC_SIZE)
         self.acc[fk.ACC_LAST_T] = np.nan
@@ -397,13 +396,13 @@ class FemTether:
                    u_tab if u_tab is not None else self._no_table, t_a, t_b, n_sub, body,
                    self._inertia, self._inertia_inv, self._rho, torque, self.acc)
         status = int(self.st[fk.ST_STATUS])
-        if status == fk.STATUS_FULL:
+        if status == STATUS_FULL:
             msg = 'the tether needs more elements than the reel max_length allows; raise reel.max_length'
             raise PlantDivergenceError(msg)
-        if status == fk.STATUS_NONFINITE:
+        if status == STATUS_NONFINITE:
             msg = f'the tether state became non-finite before t = {t_b:.6g} s: reduce dt'
             raise PlantDivergenceError(msg)
-        if status == fk.STATUS_SHORT:
+        if status == STATUS_SHORT:
             msg = f"the reel element's rest length reached zero before t = {t_b:.6g} s (method {cfg.reshape!r})"
             raise PlantDivergenceError(msg)
         self._watch(t_b)
