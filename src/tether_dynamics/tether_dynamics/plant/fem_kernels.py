@@ -51,9 +51,10 @@ MESH_KEEP, MESH_SPLIT, MESH_MERGE = 0, 1, 2
 # UAV mass, the last step's feed rate into the reel element, the reel command of the previous
 # call (a spool-rate command ramps from it over the call), the rest length a merge took out of
 # the reel element and still owes it; node 1's acceleration in the last step (3, the reel
-# element's inertia); the air block of drag and wind (tether_dynamics.laws.AIR_FIELDS).
+# element's inertia); the UAV end's acceleration in the last step (3, its lump's inertia); the
+# air block of drag and wind (tether_dynamics.laws.AIR_FIELDS).
 (FP_EA, FP_MU, FP_H, FP_G, FP_KV, FP_COMMAND, FP_THRUST, FP_PENDING, FP_UAV_MASS, FP_PAYOUT, FP_COMMAND_PREV,
- FP_OWED, FP_ACC1, FP_AIR) = (*range(13), 15)
+ FP_OWED, FP_ACC1, FP_ACC_UAV, FP_AIR) = (*range(13), 15, 18)
 FP_SIZE = FP_AIR + len(AIR_FIELDS)
 # Time constant (s) over which the reel element gets back what a merge took out of it.
 PAYBACK = 0.25
@@ -553,7 +554,10 @@ def advance(x, v, rest, st, fp, rs, rp, g_tab, u_tab, t_a, t_b, n_sub, bs, inert
             if not np.isfinite(x[1, c] + v[1, c]):
                 st[ST_STATUS] = STATUS_NONFINITE
                 return
+    last = vf.copy()
     _set_ends(x, v, st[ST_NODES], st[ST_BODY] == 1, bs, rho, g_tab, u_tab, t_a, t_b, t_b, p0, v0, pf, vf)
+    for c in range(3):
+        fp[FP_ACC_UAV + c] = (vf[c] - last[c]) / dt
     if not _all_finite(x, v, rest, st[ST_NODES], order, bs, rs, acc):
         st[ST_STATUS] = STATUS_NONFINITE
 
@@ -883,8 +887,9 @@ def end_state(x, v, rest, n, fp, order, kv_on, feed, seg, force_reel, force_uav)
     """The tether's state at its ends after a step: the tension along the tether between
     consecutive nodes into seg[:n - 1] (linear: each element's; quadratic: the Gauss points'
     tension field at zeta = -1/2 and +1/2), the force on the guide way (the exit tension along
-    the departing tangent) and on the UAV attachment point (the internal force on the last
-    node plus the weight of its lump, which hangs on the UAV). Returns the tensions at the
+    the departing tangent) and on the UAV attachment point: the internal force on the last
+    node less its lump's weight and inertia m (a - g), a the UAV end's acceleration over the
+    last step (the lump moves with the UAV; f(l) of the UAV's Eq. 7.44). Returns the tensions at the
     guide way and at the UAV, N (linear: the last element's tension carried over the
     half-element's weight; quadratic: the size of the force on the UAV).
     """
@@ -916,7 +921,10 @@ def end_state(x, v, rest, n, fp, order, kv_on, feed, seg, force_reel, force_uav)
             seg[2 * e + 1] = max(w * ta + (1.0 - w) * tb, 0.0)
     for c in range(3):
         force_uav[c] = f[n - 1, c]
-    force_uav[2] -= lump(rest, n, order, mu, n - 1) * g
+    m_end = lump(rest, n, order, mu, n - 1)
+    for c in range(3):
+        force_uav[c] -= m_end * fp[FP_ACC_UAV + c]
+    force_uav[2] -= m_end * g
     if order == 1:
         norm = np.sqrt(tan[0] ** 2 + tan[1] ** 2 + tan[2] ** 2)
         for c in range(3):
