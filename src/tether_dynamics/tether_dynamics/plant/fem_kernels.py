@@ -51,7 +51,7 @@ MESH_KEEP, MESH_SPLIT, MESH_MERGE = 0, 1, 2
 # UAV mass, the last step's feed rate into the reel element, the reel command of the previous
 # call (a spool-rate command ramps from it over the call), the rest length a merge took out of
 # the reel element and still owes it; node 1's acceleration in the last step (3, the reel
-# element's inertia); the UAV end's acceleration in the last step (3, its lump's inertia); the
+# element's inertia); the UAV end's mean acceleration over the last call (3, its lump's inertia); the
 # air block of drag and wind (tether_dynamics.laws.AIR_FIELDS).
 (FP_EA, FP_MU, FP_H, FP_G, FP_KV, FP_COMMAND, FP_THRUST, FP_PENDING, FP_UAV_MASS, FP_PAYOUT, FP_COMMAND_PREV,
  FP_OWED, FP_ACC1, FP_ACC_UAV, FP_AIR) = (*range(13), 15, 18)
@@ -523,12 +523,14 @@ def advance(x, v, rest, st, fp, rs, rp, g_tab, u_tab, t_a, t_b, n_sub, bs, inert
     tangents = np.zeros((cap, 4))
     mesh = np.zeros(3)
     p0, v0, pf, vf, u0, tan = np.empty(3), np.empty(3), np.empty(3), np.empty(3), np.empty(3), np.empty(3)
-    force_uav, force_reel = np.empty(3), np.empty(3)
+    force_uav, force_reel, first = np.empty(3), np.empty(3), np.empty(3)
     feed = rp[RP_RADIUS] * rs[RS_RATE]
     for k in range(n_sub):
         t = t_a + k * dt
         n = st[ST_NODES]
         _set_ends(x, v, n, st[ST_BODY] == 1, bs, rho, g_tab, u_tab, t_a, t_b, t, p0, v0, pf, vf)
+        if k == 0:
+            first[:] = vf
         _material_velocity(x, rest, order, method, feed, v0, tan, u0)
         t_exit = _element_forces(x, v, rest, n, order, kv_on, fp, u0, tens, tkv, f, tangents, force_reel)
         _note_tension_jump(acc, t_exit, t)
@@ -554,10 +556,9 @@ def advance(x, v, rest, st, fp, rs, rp, g_tab, u_tab, t_a, t_b, n_sub, bs, inert
             if not np.isfinite(x[1, c] + v[1, c]):
                 st[ST_STATUS] = STATUS_NONFINITE
                 return
-    last = vf.copy()
     _set_ends(x, v, st[ST_NODES], st[ST_BODY] == 1, bs, rho, g_tab, u_tab, t_a, t_b, t_b, p0, v0, pf, vf)
     for c in range(3):
-        fp[FP_ACC_UAV + c] = (vf[c] - last[c]) / dt
+        fp[FP_ACC_UAV + c] = (vf[c] - first[c]) / (t_b - t_a)
     if not _all_finite(x, v, rest, st[ST_NODES], order, bs, rs, acc):
         st[ST_STATUS] = STATUS_NONFINITE
 
@@ -888,8 +889,11 @@ def end_state(x, v, rest, n, fp, order, kv_on, feed, seg, force_reel, force_uav)
     consecutive nodes into seg[:n - 1] (linear: each element's; quadratic: the Gauss points'
     tension field at zeta = -1/2 and +1/2), the force on the guide way (the exit tension along
     the departing tangent) and on the UAV attachment point: the internal force on the last
-    node less its lump's weight and inertia m (a - g), a the UAV end's acceleration over the
-    last step (the lump moves with the UAV; f(l) of the UAV's Eq. 7.44). Returns the tensions at the
+    node less its lump's weight and inertia m (a - g), a the UAV end's mean acceleration over
+    the last call (the lump moves with the UAV; f(l) of the UAV's Eq. 7.44). Not the end's
+    acceleration at the call's end: from the samples of a UAV stepped with symplectic Euler
+    (p_b = p_a + v_b T) the Hermite segment's is -2 (v_b - v_a) / T, and fed back as a force it
+    unsettled the default mission's hold (horizontal radius 0.056 -> 0.134 m). Returns the tensions at the
     guide way and at the UAV, N (linear: the last element's tension carried over the
     half-element's weight; quadratic: the size of the force on the UAV).
     """
