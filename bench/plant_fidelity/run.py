@@ -296,7 +296,8 @@ def main() -> None:
         if exact:
             ax.set_title(f'not drawn: {len(exact)} runs with no error at all (the same {q} as the reference)',
                          fontsize=7)
-        ax.legend(fontsize=7)
+        if ax.get_legend_handles_labels()[0]:   # a panel whose runs all have no error draws no front
+            ax.legend(fontsize=7)
     fig.suptitle('square: quasi-static, circle: linear, triangle: quadratic; hollow: effects off, filled: on')
     fig.tight_layout()
     fig.savefig(args.out / 'pareto.png', dpi=120)
