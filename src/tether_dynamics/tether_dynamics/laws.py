@@ -33,7 +33,8 @@ AIR_FIELDS = ('half_rho_d', 'cd_normal', 'cd_tangential', 'wind_u', 'wind_v', 'w
 :func:`add_element_drag`): 1/2 rho d (kg/m^2), C_Dn, C_Dt, the wind U (3, m/s, world), and its
 shear exponent alpha, reference height (m) and ground height (m) (:func:`wind_at`)."""
 (AIR_HALF_RHO_D, AIR_CD_NORMAL, AIR_CD_TANGENTIAL, AIR_WIND, AIR_WIND_ALPHA, AIR_WIND_Z_REF,
- AIR_WIND_Z_GROUND) = (0, 1, 2, 3, 6, 7, 8)
+ AIR_WIND_Z_GROUND) = (AIR_FIELDS.index(name) for name in ('half_rho_d', 'cd_normal', 'cd_tangential', 'wind_u',
+                                                            'wind_alpha', 'wind_z_ref', 'wind_z_ground'))
 
 
 def air_block(air_density: float, diameter: float, cd_normal: float, cd_tangential: float,
@@ -121,7 +122,7 @@ def gauss_shape(order, g, k, l0):
 def add_element_drag(x, v, first, order, l0, fp, air, f):
     """Add the drag on the element of nodes first .. first + order (rest length l0) to f, at its
     two Gauss points, each node by its shape function (Appendix D.3 quadrature). The air block
-    (:data:`AIR_FIELDS`) is fp[air:air + 9].
+    (:data:`AIR_FIELDS`) is fp[air:air + len(AIR_FIELDS)].
     """
     for g in range(2):
         r0 = r1 = r2 = 0.0

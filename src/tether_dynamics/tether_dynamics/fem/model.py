@@ -137,8 +137,7 @@ def _air(drag: Drag | None, wind: Wind | None) -> np.ndarray:
     """The kernels' air block (:func:`tether_dynamics.laws.air_block`): zeros without drag."""
     if drag is None:
         return air_block(0.0, 0.0, 0.0, 0.0)
-    if wind is None:
-        return air_block(drag.air_density, drag.diameter, drag.cd_normal, drag.cd_tangential)
+    wind = wind or Wind((0.0, 0.0, 0.0))
     return air_block(drag.air_density, drag.diameter, drag.cd_normal, drag.cd_tangential, wind.velocity, wind.alpha,
                      wind.z_ref, wind.z_ground)
 

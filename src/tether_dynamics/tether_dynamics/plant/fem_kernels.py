@@ -51,8 +51,8 @@ MESH_KEEP, MESH_SPLIT, MESH_MERGE = 0, 1, 2
 # UAV mass, the last step's feed rate into the reel element, the reel command of the previous
 # call (a spool-rate command ramps from it over the call), the rest length a merge took out of
 # the reel element and still owes it; node 1's acceleration in the last step (3, the reel
-# element's inertia); the UAV end's mean acceleration over the last call (3, its lump's inertia); the
-# air block of drag and wind (tether_dynamics.laws.AIR_FIELDS).
+# element's inertia); the UAV end's mean acceleration over the last call (3, its lump's
+# inertia); the air block of drag and wind (tether_dynamics.laws.AIR_FIELDS).
 (FP_EA, FP_MU, FP_H, FP_G, FP_KV, FP_COMMAND, FP_THRUST, FP_PENDING, FP_UAV_MASS, FP_PAYOUT, FP_COMMAND_PREV,
  FP_OWED, FP_ACC1, FP_ACC_UAV, FP_AIR) = (*range(13), 15, 18)
 FP_SIZE = FP_AIR + len(AIR_FIELDS)
@@ -892,8 +892,7 @@ def end_state(x, v, rest, n, fp, order, kv_on, feed, seg, force_reel, force_uav)
     node less its lump's weight and inertia m (a - g), a the UAV end's mean acceleration over
     the last call (the lump moves with the UAV; f(l) of the UAV's Eq. 7.44). Not the end's
     acceleration at the call's end: from the samples of a UAV stepped with symplectic Euler
-    (p_b = p_a + v_b T) the Hermite segment's is -2 (v_b - v_a) / T, and fed back as a force it
-    unsettled the default mission's hold (horizontal radius 0.056 -> 0.134 m). Returns the tensions at the
+    (p_b = p_a + v_b T) the Hermite segment's is -2 (v_b - v_a) / T. Returns the tensions at the
     guide way and at the UAV, N (linear: the last element's tension carried over the
     half-element's weight; quadratic: the size of the force on the UAV).
     """
