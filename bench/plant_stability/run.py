@@ -26,7 +26,7 @@ from pathlib import Path
 import numpy as np
 
 from tether_dynamics.plant import PlantConfig, PlantInputs, ReelConfig, TetherPlant, UavConfig
-from tether_dynamics.plant import fem_reel
+from tether_dynamics.plant import fem_reel, watchdog
 from tether_dynamics.plant.fem_reel import PlantDivergenceError, stable_step
 
 LENGTH, EA, MU, RADIUS = 40.0, 4.0e4, 0.01, 0.05
@@ -117,7 +117,7 @@ def main() -> None:
                f"{r['residual_start']:.2e} mu g L^2 at the start, {r['ended']}" for r in rows),
              f"runs the watchdog let finish: residual at most {max(r['residual_share'] for r in healthy):.3g} of the "
              f"throughput, {max(r['residual_start'] for r in healthy):.2e} mu g L^2 at the start "
-             f"(watchdog: {fem_reel.WATCHDOG_SHARE:g} of the throughput + {fem_reel.WATCHDOG_FLOOR:g} mu g L^2)"]
+             f"(watchdog: {watchdog.SHARE:g} of the throughput + {watchdog.FLOOR:g} mu g L^2)"]
     text = '\n'.join(lines)
     print(text)
     (args.out / 'summary.txt').write_text(text + '\n')

@@ -8,6 +8,8 @@ from tether_dynamics.fem.effects import Drag, KelvinVoigt, Wind
 from tether_dynamics.fem.end_bodies import Pinned, PointMass, PrescribedMotion, RigidBody
 from tether_dynamics.fem.model import Scene, Tether
 from tether_dynamics.fem.statics import hanging_shape
+from tether_dynamics.plant.config import PlantConfig, ReelConfig, UavConfig
+from tether_models.constants import GRAVITY
 
 # Sec. 9.1.1: string, pivot, release point, rigid body.
 PENDULUM_LENGTH = 5.875
@@ -41,6 +43,19 @@ def pendulum(element: str = 'linear', n_elem: int = 5, body: str = 'rigid', *,
     far = (RigidBody(PENDULUM_MASS, PENDULUM_RHO_C, PENDULUM_INERTIA, PENDULUM_ROTATION) if body == 'rigid'
            else PointMass(PENDULUM_MASS))
     return Scene(tet, Pinned(PENDULUM_PIVOT), far, nodes, drag=drag, wind=wind, damping=damping)
+
+
+def pendulum_plant(element: str = 'linear', n_elem: int = 5, dt: float = THESIS_DT) -> PlantConfig:
+    """The pendulum as the tether plant runs it (:mod:`tether_dynamics.plant`): the pivot at the
+    guide way, the reel held (spool-rate input; a rate of 0 keeps the length), the end a 'dynamic'
+    UAV body of the point mass's mass with its attachment at its centre; ``element`` 'linear' or
+    'quadratic'. Release it with ``PlantInputs(uav_position=PENDULUM_RELEASE)``.
+    """
+    return PlantConfig(fidelity=element, elements=n_elem, dt=dt, initial_length=PENDULUM_LENGTH,
+                       guide_way_offset=PENDULUM_PIVOT, mass_per_length=PENDULUM_MU, ea=PENDULUM_EA,
+                       gravity=GRAVITY, reel=ReelConfig(input='spool_rate', min_length=0.5,
+                                                        max_length=2.0 * PENDULUM_LENGTH),
+                       uav=UavConfig(mode='dynamic', mass=PENDULUM_MASS, attach_offset=(0.0, 0.0, 0.0)))
 
 
 def boat_motion(exit_point: tuple[float, float, float] = (0.0, 0.0, 1.0), heave: float = 1.1,

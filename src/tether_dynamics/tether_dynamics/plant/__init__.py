@@ -49,6 +49,10 @@ Contract:
     (:mod:`.fem_reel`: the method for both element orders, the alternatives measured, the
     stable step). What each costs and how close it comes: ``bench/plant_fidelity``.
 
+    Whole runs: a fixed-length case under held inputs (the Chapter 9 pendulum) runs in one call,
+    ``TetherPlant.run_held(times, inputs) -> HeldRun``, equal bit for bit to stepping it per sample
+    (:mod:`.held_run`).
+
     Sea surface: ``PlantInputs.sea_surface_height`` is the local wave elevation the scene
     provides (0 without waves); ``clearance_sea`` and ``fouling`` are measured from it.
 """
@@ -56,7 +60,7 @@ Contract:
 from tether_dynamics.plant.config import PlantConfig, PlantConfigError, ReelConfig, UavConfig
 from tether_dynamics.plant.fem_reel import PlantDivergenceError
 from tether_dynamics.plant.io import PlantInputs, PlantOutputs
-from tether_dynamics.plant.plant import PlantStepError, TetherPlant
+from tether_dynamics.plant.plant import HeldRun, PlantStepError, TetherPlant
 
-__all__ = ['PlantConfig', 'PlantConfigError', 'PlantDivergenceError', 'PlantInputs', 'PlantOutputs', 'PlantStepError',
-           'ReelConfig', 'TetherPlant', 'UavConfig']
+__all__ = ['HeldRun', 'PlantConfig', 'PlantConfigError', 'PlantDivergenceError', 'PlantInputs', 'PlantOutputs',
+           'PlantStepError', 'ReelConfig', 'TetherPlant', 'UavConfig']

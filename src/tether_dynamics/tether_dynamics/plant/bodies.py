@@ -72,23 +72,32 @@ def reel_step(rs, rp, torque_input, command, tension, dt):
     return (length - old_length) / dt
 
 
+@njit(cache=True, inline='always')
+def _rotated(x, y, z, w, v0, v1, v2):
+    """R(q) v for the unit quaternion q = (x, y, z, w), as a tuple (no array: called every internal step)."""
+    tx = 2.0 * (y * v2 - z * v1)
+    ty = 2.0 * (z * v0 - x * v2)
+    tz = 2.0 * (x * v1 - y * v0)
+    return v0 + w * tx + (y * tz - z * ty), v1 + w * ty + (z * tx - x * tz), v2 + w * tz + (x * ty - y * tx)
+
+
 @njit(cache=True)
 def quat_rotate(q, vec, out):
     """out = R(q) vec for a unit quaternion q = (x, y, z, w)."""
-    x, y, z, w = q[0], q[1], q[2], q[3]
-    tx = 2.0 * (y * vec[2] - z * vec[1])
-    ty = 2.0 * (z * vec[0] - x * vec[2])
-    tz = 2.0 * (x * vec[1] - y * vec[0])
-    out[0] = vec[0] + w * tx + (y * tz - z * ty)
-    out[1] = vec[1] + w * ty + (z * tx - x * tz)
-    out[2] = vec[2] + w * tz + (x * ty - y * tx)
+    out[0], out[1], out[2] = _rotated(q[0], q[1], q[2], q[3], vec[0], vec[1], vec[2])
 
 
 @njit(cache=True)
 def quat_rotate_inverse(q, vec, out):
     """out = R(q)^T vec."""
-    qc = np.array([-q[0], -q[1], -q[2], q[3]])
-    quat_rotate(qc, vec, out)
+    out[0], out[1], out[2] = _rotated(-q[0], -q[1], -q[2], q[3], vec[0], vec[1], vec[2])
+
+
+@njit(cache=True, inline='always')
+def _times(m, v0, v1, v2):
+    """The (3, 3) matrix m times (v0, v1, v2), as a tuple."""
+    return (m[0, 0] * v0 + m[0, 1] * v1 + m[0, 2] * v2, m[1, 0] * v0 + m[1, 1] * v1 + m[1, 2] * v2,
+            m[2, 0] * v0 + m[2, 1] * v1 + m[2, 2] * v2)
 
 
 # Body state bs: position (3), velocity (3), quaternion x y z w (4), body rate (3), acceleration (3).
@@ -99,57 +108,49 @@ BS_SIZE = 16
 @njit(cache=True)
 def body_attach(bs, rho, pos, vel):
     """World position and velocity of the attachment point rho (body frame)."""
-    q = bs[BS_QUAT:BS_QUAT + 4]
-    r = np.empty(3)
-    quat_rotate(q, rho, r)
-    om = bs[BS_OMEGA:BS_OMEGA + 3]
-    w = np.empty(3)
-    quat_rotate(q, om, w)
-    pos[0] = bs[0] + r[0]
-    pos[1] = bs[1] + r[1]
-    pos[2] = bs[2] + r[2]
-    vel[0] = bs[3] + w[1] * r[2] - w[2] * r[1]
-    vel[1] = bs[4] + w[2] * r[0] - w[0] * r[2]
-    vel[2] = bs[5] + w[0] * r[1] - w[1] * r[0]
+    x, y, z, w = bs[BS_QUAT], bs[BS_QUAT + 1], bs[BS_QUAT + 2], bs[BS_QUAT + 3]
+    r0, r1, r2 = _rotated(x, y, z, w, rho[0], rho[1], rho[2])
+    w0, w1, w2 = _rotated(x, y, z, w, bs[BS_OMEGA], bs[BS_OMEGA + 1], bs[BS_OMEGA + 2])
+    pos[0] = bs[0] + r0
+    pos[1] = bs[1] + r1
+    pos[2] = bs[2] + r2
+    vel[0] = bs[3] + w1 * r2 - w2 * r1
+    vel[1] = bs[4] + w2 * r0 - w0 * r2
+    vel[2] = bs[5] + w0 * r1 - w1 * r0
 
 
 @njit(cache=True)
 def body_step(bs, mass, inertia, inertia_inv, rho, thrust, torque, force, gravity, dt):
     """Advance the UAV by dt under thrust (N, body +z), body torque (N m), gravity (m/s^2,
-    along -z) and the tether force ``force`` (N, world) at the attachment point.
+    along -z) and the tether force ``force`` (N, world) at the attachment point. Scalar code,
+    no arrays made: it runs every internal step of the tether plant and of the built-in UAV.
     """
-    q = bs[BS_QUAT:BS_QUAT + 4].copy()
-    up = np.array([0.0, 0.0, 1.0])
-    thrust_w = np.empty(3)
-    quat_rotate(q, up, thrust_w)
+    x, y, z, w = bs[BS_QUAT], bs[BS_QUAT + 1], bs[BS_QUAT + 2], bs[BS_QUAT + 3]
+    up = _rotated(x, y, z, w, 0.0, 0.0, 1.0)
     for c in range(3):
-        acc = (thrust * thrust_w[c] + force[c]) / mass
+        acc = (thrust * up[c] + force[c]) / mass
         if c == 2:
             acc -= gravity
         bs[BS_ACC + c] = acc
         bs[BS_VEL + c] += dt * acc
         bs[BS_POS + c] += dt * bs[BS_VEL + c]
-    f_body = np.empty(3)
-    quat_rotate_inverse(q, force, f_body)
-    om = bs[BS_OMEGA:BS_OMEGA + 3].copy()
-    ang = inertia @ om
-    rhs = np.empty(3)
-    rhs[0] = torque[0] + rho[1] * f_body[2] - rho[2] * f_body[1] - (om[1] * ang[2] - om[2] * ang[1])
-    rhs[1] = torque[1] + rho[2] * f_body[0] - rho[0] * f_body[2] - (om[2] * ang[0] - om[0] * ang[2])
-    rhs[2] = torque[2] + rho[0] * f_body[1] - rho[1] * f_body[0] - (om[0] * ang[1] - om[1] * ang[0])
-    om_dot = inertia_inv @ rhs
-    for c in range(3):
-        om[c] += dt * om_dot[c]
-        bs[BS_OMEGA + c] = om[c]
+    f0, f1, f2 = _rotated(-x, -y, -z, w, force[0], force[1], force[2])
+    o0, o1, o2 = bs[BS_OMEGA], bs[BS_OMEGA + 1], bs[BS_OMEGA + 2]
+    a0, a1, a2 = _times(inertia, o0, o1, o2)
+    rhs0 = torque[0] + rho[1] * f2 - rho[2] * f1 - (o1 * a2 - o2 * a1)
+    rhs1 = torque[1] + rho[2] * f0 - rho[0] * f2 - (o2 * a0 - o0 * a2)
+    rhs2 = torque[2] + rho[0] * f1 - rho[1] * f0 - (o0 * a1 - o1 * a0)
+    d0, d1, d2 = _times(inertia_inv, rhs0, rhs1, rhs2)
+    o0, o1, o2 = o0 + dt * d0, o1 + dt * d1, o2 + dt * d2
+    bs[BS_OMEGA], bs[BS_OMEGA + 1], bs[BS_OMEGA + 2] = o0, o1, o2
     # q <- q (x) exp(dt om / 2), body rate: right multiplication.
-    theta = np.sqrt(om[0] ** 2 + om[1] ** 2 + om[2] ** 2) * dt
+    theta = np.sqrt(o0 ** 2 + o1 ** 2 + o2 ** 2) * dt
     if theta > 0.0:
         s = np.sin(0.5 * theta) / (theta / dt)
-        dx, dy, dz, dw = s * om[0], s * om[1], s * om[2], np.cos(0.5 * theta)
-        x, y, z, w = q[0], q[1], q[2], q[3]
-        nq = np.array([w * dx + x * dw + y * dz - z * dy,
-                       w * dy - x * dz + y * dw + z * dx,
-                       w * dz + x * dy - y * dx + z * dw,
-                       w * dw - x * dx - y * dy - z * dz])
-        nq /= np.sqrt(np.sum(nq * nq))
-        bs[BS_QUAT:BS_QUAT + 4] = nq
+        dx, dy, dz, dw = s * o0, s * o1, s * o2, np.cos(0.5 * theta)
+        nx = w * dx + x * dw + y * dz - z * dy
+        ny = w * dy - x * dz + y * dw + z * dx
+        nz = w * dz + x * dy - y * dx + z * dw
+        nw = w * dw - x * dx - y * dy - z * dz
+        norm = np.sqrt(nx * nx + ny * ny + nz * nz + nw * nw)
+        bs[BS_QUAT], bs[BS_QUAT + 1], bs[BS_QUAT + 2], bs[BS_QUAT + 3] = nx / norm, ny / norm, nz / norm, nw / norm

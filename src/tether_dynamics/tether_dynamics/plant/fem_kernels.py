@@ -1031,3 +1031,18 @@ def report(x, v, rest, n, fp, order, kv_on, feed, nodes, velocities, arc, lumps,
         nodes, velocities, lumps, seg, arc, g, fp[FP_EA])
     values[RV_MAX_TENSION] = largest
     values[RV_REST] = rest_total + owed
+
+
+@njit(cache=True)
+def report_finite(seg, n, force_reel, force_uav, lowest, values):
+    """Whether what :func:`report` wrote is finite: the n - 1 tensions, both end forces, the lowest
+    point and the scalars.
+    """
+    for k in range(n - 1):
+        if not np.isfinite(seg[k]):
+            return False
+    for arr in (force_reel, force_uav, lowest, values):
+        for j in range(arr.size):
+            if not np.isfinite(arr[j]):
+                return False
+    return True

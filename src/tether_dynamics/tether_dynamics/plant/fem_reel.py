@@ -92,7 +92,7 @@ stable step of linear elements is about 0.7 h / c (c = sqrt(EA / mu), the shorte
 element 0.35 h); of quadratic elements it is computed from the highest mode of a short and
 two full elements (about 0.28 h / c without damping). The plant accepts 0.9 of that estimate
 where Kelvin-Voigt damping damps the highest mode, 0.5 without (:func:`accepted_step`), checked
-at construction; an energy-balance watchdog stops a run that diverges anyway (:meth:`FemTether._watch`).
+at construction; an energy-balance watchdog stops a run that diverges anyway (:mod:`.watchdog`).
 """
 
 from __future__ import annotations
@@ -103,7 +103,7 @@ import numpy as np
 
 from tether_dynamics.laws import GAUSS, STATUS_FULL, STATUS_NONFINITE, STATUS_SHORT, air_block
 from tether_dynamics.plant import fem_kernels as fk
-from tether_dynamics.plant import quasi_static
+from tether_dynamics.plant import held_run, quasi_static, watchdog
 from tether_dynamics.plant.bodies import RS_RATE
 from tether_dynamics.plant.config import PlantConfig, PlantConfigError
 
@@ -120,18 +120,6 @@ from tether_dynamics.plant.config import PlantConfig, PlantConfigError
 STABLE_FRACTION = 0.9
 UNDAMPED_FRACTION = 0.5
 DAMPED_RATIO = 0.01
-# The energy-balance watchdog (FemTether._watch): a run stops once the balance's residual exceeds
-# WATCHDOG_SHARE of the energy throughput plus WATCHDOG_FLOOR of mu g L^2 (L deployed): more energy made
-# or lost by the integration than flowed through the tether. Measured (bench/plant_stability, a stiff
-# light tether on a moving reel, steps up to 0.9 of the estimate): healthy runs <= 0.34 of the throughput after
-# the first 0.5 s and <= 5.3e-4 mu g L^2 in it (the start, when next to nothing has flowed); blown-up
-# runs 5.9 (this bench) and 2.5 to 880 (issue 36's held-out case).
-WATCHDOG_SHARE = 1.0
-WATCHDOG_FLOOR = 1e-3
-# The same check over the last 1-2 windows of WATCHDOG_WINDOW s: healthy accepted runs of the bench
-# reach 0.27 of a 1 s window's throughput, the blown-up linear N = 40 at 0.9 of the estimate 7.7.
-WATCHDOG_WINDOW = 1.0
-
 
 class PlantDivergenceError(RuntimeError):
     """The finite-element tether left the physical range; the message names how."""
@@ -324,8 +312,8 @@ class FemTether:
         self.acc = np.zeros(fk.ACC_SIZE)
         self.acc[fk.ACC_LAST_T] = np.nan
         self.energy0 = 0.0
-        self._marks: list[tuple[float, float, float]] = []
-        """The watchdog's window marks: (t, residual, throughput) of the last one or two window starts."""
+        self._marks = watchdog.fresh_marks()
+        self._verdict = np.zeros(3)
         self._no_table = np.zeros((4, 3))
         self._inertia = np.asarray(cfg.uav.inertia, float)
         self._inertia_inv = np.linalg.inv(self._inertia)
@@ -387,14 +375,41 @@ class FemTether:
                 rs: np.ndarray, rp: np.ndarray, torque_input: bool, command: float, body: np.ndarray,
                 thrust: float, torque: np.ndarray) -> None:
         """Advance from t_a to t_b in n_sub steps (see :func:`fem_kernels.advance`)."""
-        cfg = self.config
+        self._hold(rs, torque_input, command, thrust)
+        fk.advance(self.x, self.v, self.rest, self.st, self.fp, rs, rp, g_tab,
+                   u_tab if u_tab is not None else self._no_table, t_a, t_b, n_sub, body,
+                   self._inertia, self._inertia_inv, self._rho, torque, self.acc)
+        self._raise_on_status(t_b)
+        if not watchdog.watch(self.x, self.v, self.rest, self.st, self.fp, self.acc, self.energy0, t_b, self._marks,
+                              self._verdict):
+            self._raise_watchdog(t_b)
+
+    def run_held(self, times: np.ndarray, g_tab: np.ndarray, rs: np.ndarray, rp: np.ndarray, torque_input: bool,
+                 command: float, body: np.ndarray, thrust: float, torque: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Step through ``times`` with the guide way's table and the commands held and the UAV a dynamic
+        body, in one compiled loop (:func:`held_run.run_held`); the ``fem_kernels.RV_`` report
+        (len(times), RV_SIZE) and the UAV body state (len(times), BS_SIZE) after each sample (row 0
+        left for the caller).
+        """
+        self._hold(rs, torque_input, command, thrust)
+        values, bodies = np.zeros((times.size, fk.RV_SIZE)), np.zeros((times.size, body.size))
+        done = held_run.run_held(self.x, self.v, self.rest, self.st, self.fp, rs, rp, g_tab, self._no_table, times, self.config.dt, body,
+                                 self._inertia, self._inertia_inv, self._rho, torque, self.acc, self.energy0,
+                                 self._marks, self._verdict, values, bodies)
+        if done < times.size:
+            if self.st[fk.ST_STATUS] == held_run.STOP_WATCHDOG:
+                self._raise_watchdog(float(times[done]))
+            self._raise_on_status(float(times[done]))
+        return values, bodies
+
+    def _hold(self, rs: np.ndarray, torque_input: bool, command: float, thrust: float) -> None:
+        """The commands of the next call: a spool-rate command ramps from the spool's rate."""
         self.st[fk.ST_TORQUE] = torque_input
         self.fp[fk.FP_COMMAND_PREV] = rs[RS_RATE] if not torque_input else command
         self.fp[fk.FP_COMMAND] = command
         self.fp[fk.FP_THRUST] = thrust
-        fk.advance(self.x, self.v, self.rest, self.st, self.fp, rs, rp, g_tab,
-                   u_tab if u_tab is not None else self._no_table, t_a, t_b, n_sub, body,
-                   self._inertia, self._inertia_inv, self._rho, torque, self.acc)
+
+    def _raise_on_status(self, t_b: float) -> None:
         status = int(self.st[fk.ST_STATUS])
         if status == STATUS_FULL:
             msg = 'the tether needs more elements than the reel max_length allows; raise reel.max_length'
@@ -403,31 +418,16 @@ class FemTether:
             msg = f'the tether state became non-finite before t = {t_b:.6g} s: reduce dt'
             raise PlantDivergenceError(msg)
         if status == STATUS_SHORT:
-            msg = f"the reel element's rest length reached zero before t = {t_b:.6g} s (method {cfg.reshape!r})"
+            msg = f"the reel element's rest length reached zero before t = {t_b:.6g} s (method {self.config.reshape!r})"
             raise PlantDivergenceError(msg)
-        self._watch(t_b)
 
-    def _watch(self, t: float) -> None:
-        """The energy-balance watchdog: raise :class:`PlantDivergenceError` when the balance's
-        residual exceeds WATCHDOG_SHARE of the energy throughput plus WATCHDOG_FLOOR mu g L^2
-        (L deployed; for the first steps, when next to nothing has flowed), over the run and over
-        its last WATCHDOG_WINDOW to 2 WATCHDOG_WINDOW seconds (late in a long run, a blow-up need
-        not outgrow everything that has flowed since the start).
-        """
-        bal = self.balance()
-        residual, throughput = bal['residual'], bal['throughput']
-        if not self._marks or t - self._marks[-1][0] >= WATCHDOG_WINDOW:
-            self._marks = [*self._marks[-1:], (t, residual, throughput)]
-        t_mark, residual_mark, throughput_mark = self._marks[0]
-        cfg = self.config
-        floor = WATCHDOG_FLOOR * cfg.mass_per_length * cfg.gravity * self.deployed_rest_length() ** 2
-        for since, made, flowed in ((None, abs(residual), throughput),
-                                    (t_mark, abs(residual - residual_mark), throughput - throughput_mark)):
-            if made > WATCHDOG_SHARE * flowed + floor:
-                span = f' since t = {since:.6g} s' if since is not None else ''
-                msg = (f'energy balance residual {made:.3g} J exceeds {WATCHDOG_SHARE:g} of the energy throughput '
-                       f'{flowed:.3g} J{span} at t = {t:.6g} s: the explicit step {cfg.dt:.3g} s diverged; reduce dt')
-                raise PlantDivergenceError(msg)
+    def _raise_watchdog(self, t: float) -> None:
+        """The energy-balance watchdog's verdict (:func:`watchdog.watch`) as an error."""
+        made, flowed, since = self._verdict
+        span = f' since t = {since:.6g} s' if math.isfinite(since) else ''
+        msg = (f'energy balance residual {made:.3g} J exceeds {watchdog.SHARE:g} of the energy throughput '
+               f'{flowed:.3g} J{span} at t = {t:.6g} s: the explicit step {self.config.dt:.3g} s diverged; reduce dt')
+        raise PlantDivergenceError(msg)
 
     @property
     def n(self) -> int:
@@ -453,7 +453,7 @@ class FemTether:
         feed = float(self.fp[fk.FP_PAYOUT]) if self.config.reshape == 'ale' else 0.0
         fk.report(self.x, self.v, self.rest, n, self.fp, self.order, bool(self.st[fk.ST_KV]), feed, nodes, velocities,
                   arc, lumps, seg, reel, uav, lowest, values)
-        if not all(np.isfinite(a).all() for a in (seg, reel, uav, lowest, values)):
+        if not fk.report_finite(seg, n, reel, uav, lowest, values):
             msg = 'the tether\'s tensions or energies became non-finite: reduce dt'
             raise PlantDivergenceError(msg)
         return nodes, velocities, arc, lumps, seg, reel, uav, lowest, values

@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 import math
-from dataclasses import replace
+from dataclasses import dataclass, replace
 
 import numpy as np
 
@@ -13,6 +13,7 @@ from tether_dynamics.plant import fem_kernels as fk
 from tether_dynamics.plant.config import PlantConfig
 from tether_dynamics.plant.energies import tether_energies
 from tether_dynamics.plant.fem_reel import FemTether, lumped_masses
+from tether_dynamics.plant.held_run import sub_steps
 from tether_dynamics.plant.ends import Sample, cross, hermite, hermite_table, point_on_body
 from tether_dynamics.plant.io import PlantInputs, PlantOutputs
 
@@ -27,6 +28,23 @@ def _finite(name: str, value: object, shape: tuple[int, ...]) -> np.ndarray:
         msg = f'input {name} must be finite with shape {shape}, got {value!r}'
         raise PlantStepError(msg)
     return arr
+
+
+@dataclass(frozen=True)
+class HeldRun:
+    """What :meth:`TetherPlant.run_held` returns, one row per sample time: the times (s), the UAV's
+    position and velocity (m, m/s; ENU world), the tether's tensions at the reel and at the UAV (N) and
+    its kinetic, gravitational and strain energies (J; :attr:`PlantOutputs.kinetic_energy` and the rest).
+    """
+
+    t: np.ndarray
+    uav_position: np.ndarray
+    uav_velocity: np.ndarray
+    tension_reel: np.ndarray
+    tension_uav: np.ndarray
+    kinetic_energy: np.ndarray
+    potential_energy: np.ndarray
+    strain_energy: np.ndarray
 
 
 class TetherPlant:
@@ -126,7 +144,7 @@ class TetherPlant:
 
     def _advance(self, t_a: float, t_b: float, guide: Sample, uav: Sample | None) -> None:
         cfg = self.config
-        n_sub = max(1, int(math.ceil((t_b - t_a) / cfg.dt - 1e-9)))
+        n_sub = sub_steps(t_a, t_b, cfg.dt)
         dt = (t_b - t_a) / n_sub
         assert self._guide is not None and (uav is None or self._uav is not None), 'set by the first step'
         g_tab = hermite_table(self._guide, guide)
@@ -149,6 +167,37 @@ class TetherPlant:
                 force = -t_b * tangent_b
                 bodies.body_step(self._body, cfg.uav.mass, self._inertia, self._inertia_inv, self._rho,
                                  self._thrust, self._torque, force, cfg.gravity, dt)
+
+    def run_held(self, times: np.ndarray, inputs: PlantInputs) -> HeldRun:
+        """Step through ``times`` (s, increasing) with ``inputs`` held: the whole-run stepper of the
+        fixed-length cases (the Chapter 9 pendulum), one compiled loop (:mod:`.held_run`) whose samples
+        equal ``step(t, inputs)`` called at each time, bit for bit. The first time is a ``step`` (it
+        starts the plant when it has not started); the UAV must be 'dynamic' (a prescribed one would
+        not move) and the fidelity finite-element.
+        """
+        times = np.ascontiguousarray(times, float)
+        if self._fem is None or self.config.uav.mode != 'dynamic':
+            msg = "run_held steps a finite-element fidelity with a 'dynamic' UAV"
+            raise PlantStepError(msg)
+        if times.ndim != 1 or times.size == 0 or not np.all(np.isfinite(times)) or np.any(np.diff(times) <= 0.0):
+            msg = f'times must be a non-empty, finite, increasing 1-D array, got {times!r}'
+            raise PlantStepError(msg)
+        first = self.step(float(times[0]), inputs)
+        guide = self._samples(float(times[-1]), inputs)[0]
+        assert self._guide is not None, 'set by the first step'
+        values, body = self._fem.run_held(times, hermite_table(self._guide, guide), self._rs, self._rp,
+                                          self.config.reel.input == 'torque', self._command, self._body,
+                                          self._thrust, self._torque)
+        self._t, self._guide = float(times[-1]), guide
+        values[0, [fk.RV_T_REEL, fk.RV_T_UAV, fk.RV_KINETIC, fk.RV_POTENTIAL, fk.RV_STRAIN]] = [
+            first.tension_reel, first.tension_uav, first.kinetic_energy, first.potential_energy, first.strain_energy]
+        body[0, bodies.BS_POS:bodies.BS_POS + 3] = first.uav_position
+        body[0, bodies.BS_VEL:bodies.BS_VEL + 3] = first.uav_velocity
+        return HeldRun(t=times, uav_position=body[:, bodies.BS_POS:bodies.BS_POS + 3],
+                       uav_velocity=body[:, bodies.BS_VEL:bodies.BS_VEL + 3],
+                       tension_reel=values[:, fk.RV_T_REEL], tension_uav=values[:, fk.RV_T_UAV],
+                       kinetic_energy=values[:, fk.RV_KINETIC], potential_energy=values[:, fk.RV_POTENTIAL],
+                       strain_energy=values[:, fk.RV_STRAIN])
 
     # --------------------------------------------------------------- outputs
     def _uav_state(self) -> tuple[np.ndarray, ...]:
