@@ -102,6 +102,18 @@ def drag_per_length(u0, u1, u2, t0, t1, t2, half_rho_d, cd_normal, cd_tangential
 
 
 @njit(cache=True, inline='always')
+def quadratic_shape(z):
+    """Shape functions S1, S2, S3 of a quadratic element at zeta = z in [-1, 1] (Eq. D.5)."""
+    return (z * z - z) / 2.0, 1.0 - z * z, (z * z + z) / 2.0
+
+
+@njit(cache=True, inline='always')
+def quadratic_slope(z):
+    """dS/dzeta of :func:`quadratic_shape` at zeta = z; times 2 / l0 they give dr/ds (Eq. 8.26)."""
+    return z - 0.5, -2.0 * z, z + 0.5
+
+
+@njit(cache=True, inline='always')
 def gauss_shape(order, g, k, l0):
     """Shape function k of a linear (order 1) or quadratic (order 2) element of rest length l0
     at Gauss point g, and its slope d/ds.
@@ -111,11 +123,7 @@ def gauss_shape(order, g, k, l0):
         if k == 0:
             return 0.5 - 0.5 * z, -1.0 / l0
         return 0.5 + 0.5 * z, 1.0 / l0
-    if k == 0:
-        return (z * z - z) / 2, (2 * z - 1) / l0
-    if k == 1:
-        return 1 - z * z, -4 * z / l0
-    return (z * z + z) / 2, (2 * z + 1) / l0
+    return quadratic_shape(z)[k], 2.0 * quadratic_slope(z)[k] / l0
 
 
 @njit(cache=True, _nrt=False)

@@ -9,19 +9,17 @@ from __future__ import annotations
 
 import numpy as np
 
-from tether_dynamics.laws import GAUSS
+from tether_dynamics.laws import GAUSS, quadratic_shape, quadratic_slope
 
 
 def shape(zeta: np.ndarray) -> np.ndarray:
     """Shape functions S1..S3 (Eq. D.5), shape (len(zeta), 3)."""
-    z = np.asarray(zeta, float)
-    return np.stack([(z * z - z) / 2.0, 1.0 - z * z, (z * z + z) / 2.0], axis=-1)
+    return np.stack(quadratic_shape(np.asarray(zeta, float)), axis=-1)
 
 
 def shape_slope(zeta: np.ndarray) -> np.ndarray:
     """dS/dzeta; times 2 it gives the coefficients of l(zeta), Eq. 8.26."""
-    z = np.asarray(zeta, float)
-    return np.stack([z - 0.5, -2.0 * z, z + 0.5], axis=-1)
+    return np.stack(quadratic_slope(np.asarray(zeta, float)), axis=-1)
 
 
 def n_nodes(n_elem: int) -> int:

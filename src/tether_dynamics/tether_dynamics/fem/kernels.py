@@ -41,6 +41,7 @@ from numba import njit
 
 from tether_dynamics.laws import (AIR_FIELDS, GAUSS, STATUS_NONFINITE, STATUS_OK, STATUS_STRAIN, add_element_drag,
                                   kelvin_voigt, segment_strain)
+from tether_dynamics.layout import check_names, offsets, pack, scalars, size
 
 # The 2-point Gauss points of a quadratic element as its B-spline parameter u = (1 + zeta) / 2.
 GAUSS_U = (0.5 + 0.5 * GAUSS[0], 0.5 + 0.5 * GAUSS[1])
@@ -63,8 +64,8 @@ m/s^2), end mass (kg), Kelvin-Voigt coefficient (N s), the air block of drag and
 end force (3, N), strain limit, z_last . W_last (the last free node's entry of the
 constrained inverse mass)."""
 (FP_EA, FP_L0, FP_MU, FP_GRAVITY, FP_END_MASS, FP_KV_C, FP_AIR, FP_TABLE_T0, FP_TABLE_DT, FP_END_FORCE,
- FP_STRAIN_LIMIT, FP_C_LAST) = tuple(int(i) for i in np.cumsum([0] + [w for _, w in FP_FIELDS])[:-1])
-FP_SIZE = sum(w for _, w in FP_FIELDS)
+ FP_STRAIN_LIMIT, FP_C_LAST) = offsets(FP_FIELDS)
+FP_SIZE = size(FP_FIELDS)
 
 MDL_FIELDS = ('ip', 'fp', 'k_band', 'g_op', 'gload', 'kin_idx', 'kin_pos', 'kin_vel', 'kin_acc', 'pi_m', 'pi_inv',
               'rho_c', 'x', 'v', 'f', 'a_k', 'vec', 'mat', 'z_cols', 'z_vals', 'zt_cols', 'zt_vals', 'h_op',
@@ -75,39 +76,20 @@ MDL_FIELDS = ('ip', 'fp', 'k_band', 'g_op', 'gload', 'kin_idx', 'kin_pos', 'kin_
  MDL_ZT_VALS, MDL_H_OP, MDL_W_LAST, MDL_Q, MDL_SPLINE, MDL_GQ) = range(len(MDL_FIELDS))
 
 
-def _check_names(kind: str, given: dict, names: tuple) -> None:
-    """Refuse a field set that is not exactly ``names``."""
-    missing = [n for n in names if n not in given]
-    unknown = [n for n in given if n not in names]
-    if missing or unknown:
-        msg = f'{kind} layout mismatch: missing {missing}, unknown {unknown}'
-        raise ValueError(msg)
-
-
 def pack_ip(**fields: int) -> np.ndarray:
     """The ip array from its named fields (:data:`IP_FIELDS`)."""
-    _check_names('ip', fields, IP_FIELDS)
-    return np.array([int(fields[n]) for n in IP_FIELDS], np.int64)
+    return pack('ip', scalars(*IP_FIELDS), fields, np.int64)
 
 
 def pack_fp(**fields: float | np.ndarray) -> np.ndarray:
     """The fp array from its named fields (:data:`FP_FIELDS`; 3-wide fields take 3-vectors)."""
-    _check_names('fp', fields, tuple(n for n, _ in FP_FIELDS))
-    parts = []
-    for name, width in FP_FIELDS:
-        value = np.atleast_1d(np.asarray(fields[name], float))
-        if value.shape != (width,):
-            msg = f'fp field {name!r} needs {width} value(s), got shape {value.shape}'
-            raise ValueError(msg)
-        parts.append(value)
-    return np.concatenate(parts)
+    return pack('fp', FP_FIELDS, fields)
 
 
 def pack_mdl(**fields: object) -> tuple:
     """The model tuple from its named members (:data:`MDL_FIELDS`)."""
-    _check_names('mdl', fields, MDL_FIELDS)
+    check_names('mdl', MDL_FIELDS, fields)
     return tuple(fields[n] for n in MDL_FIELDS)
-
 
 
 @njit(cache=True, _nrt=False)

@@ -13,9 +13,10 @@ the deployed length's change; how the mesh follows it is chosen by ``method``:
 3 'insert'        whole elements of length h are inserted or removed at the reel end when
                   the paid-out length reaches h (the undeployed remainder is massless).
 
-Index constants name every slot of the integer (``st``) and float (``fp``) parameter
-vectors and of the accumulators (``acc``); they live here because numba freezes them into
-the cached code, and its cache is keyed on this file.
+The integer (``st``) and float (``fp``) parameter vectors and the accumulators (``acc``) are
+named once, as layouts (``ST_FIELDS``, ``FP_FIELDS``, ``ACC_FIELDS``; :mod:`tether_dynamics.layout`)
+that the slot constants are derived from and :class:`~.fem_reel.FemTether` packs them by; the
+constants live here because numba freezes them into the cached code.
 """
 
 from __future__ import annotations
@@ -24,7 +25,8 @@ import numpy as np
 from numba import njit
 
 from tether_dynamics.laws import (AIR_FIELDS, GAUSS, STATUS_FULL, STATUS_NONFINITE, STATUS_OK, STATUS_SHORT,
-                                  add_element_drag, kelvin_voigt, segment_strain)
+                                  add_element_drag, kelvin_voigt, quadratic_slope, segment_strain)
+from tether_dynamics.layout import offsets, scalars, size
 from tether_dynamics.plant.bodies import RP_RADIUS, RS_LENGTH, RS_RATE, body_attach, body_step, reel_step
 from tether_dynamics.plant.energies import tether_energies
 
@@ -41,32 +43,37 @@ MERGE = 0.35
 # node (2/3 of its mass) sets the stable step, so it is kept twice as long as a linear one's.
 SPLIT_QUADRATIC = 1.6
 MERGE_QUADRATIC = 0.5
-# st (int64): nodes in use, method, torque input, dynamic UAV, drag on (with the wind; zero when there is none),
-# kv on, splits, merges, status (tether_dynamics.laws.STATUS_*), element order (1 linear, 2 quadratic).
-(ST_NODES, ST_METHOD, ST_TORQUE, ST_BODY, ST_DRAG, ST_KV, ST_SPLITS, ST_MERGES, ST_STATUS, ST_ORDER) = range(10)
-ST_SIZE = 10
+ST_FIELDS = scalars('nodes', 'method', 'torque', 'body', 'drag', 'kv', 'splits', 'merges', 'status', 'order')
+"""st (int64): nodes in use, method, torque input, dynamic UAV, drag on (with the wind; zero when there is
+none), kv on, splits, merges, status (tether_dynamics.laws.STATUS_*), element order (1 linear, 2 quadratic)."""
+(ST_NODES, ST_METHOD, ST_TORQUE, ST_BODY, ST_DRAG, ST_KV, ST_SPLITS, ST_MERGES, ST_STATUS, ST_ORDER) = offsets(ST_FIELDS)
+ST_SIZE = size(ST_FIELDS)
 # What the mesh does after a step (:func:`_mesh_action`).
 MESH_KEEP, MESH_SPLIT, MESH_MERGE = 0, 1, 2
-# fp (float64): EA, mu, h, g, Kelvin-Voigt c, reel command, thrust, pending length ('insert'),
-# UAV mass, the last step's feed rate into the reel element, the reel command of the previous
-# call (a spool-rate command ramps from it over the call), the rest length a merge took out of
-# the reel element and still owes it; node 1's acceleration in the last step (3, the reel
-# element's inertia); the UAV end's mean acceleration over the last call (3, its lump's
-# inertia); the air block of drag and wind (tether_dynamics.laws.AIR_FIELDS).
+FP_FIELDS = (*scalars('ea', 'mu', 'h', 'g', 'kv', 'command', 'thrust', 'pending', 'uav_mass', 'payout', 'command_prev',
+                      'owed'), ('acc1', 3), ('acc_uav', 3), ('air', len(AIR_FIELDS)))
+"""fp (float64), (name, width): EA (N), mu (kg/m), h (m), g (m/s^2), Kelvin-Voigt c (N s), reel command
+(N m or rad/s), thrust (N), pending length ('insert', m), UAV mass (kg), the last step's feed rate into
+the reel element (m/s), the reel command of the previous call (a spool-rate command ramps from it over
+the call), the rest length a merge took out of the reel element and still owes it (m); node 1's
+acceleration in the last step (3, m/s^2: the reel element's inertia); the UAV end's mean acceleration
+over the last call (3, m/s^2: its lump's inertia); the air block of drag and wind
+(tether_dynamics.laws.AIR_FIELDS)."""
 (FP_EA, FP_MU, FP_H, FP_G, FP_KV, FP_COMMAND, FP_THRUST, FP_PENDING, FP_UAV_MASS, FP_PAYOUT, FP_COMMAND_PREV,
- FP_OWED, FP_ACC1, FP_ACC_UAV, FP_AIR) = (*range(13), 15, 18)
-FP_SIZE = FP_AIR + len(AIR_FIELDS)
+ FP_OWED, FP_ACC1, FP_ACC_UAV, FP_AIR) = offsets(FP_FIELDS)
+FP_SIZE = size(FP_FIELDS)
 # Time constant (s) over which the reel element gets back what a merge took out of it.
 PAYBACK = 0.25
-# acc (float64): energy flows into the deployed tether (J): through the moving ends, the
-# rest-length change, the mass change of the free lumps (with the inflow's momentum), drag,
-# Kelvin-Voigt dissipation, and the energy change of mesh splits and merges; then the
-# largest change of the reel tension from one step to the next (N), the last reel tension, the
-# rest length merges took out of the reel element (m, summed), the time of the largest change
-# (s), and the energy throughput: the integral of the flows' absolute values (J).
+ACC_FIELDS = scalars('ends', 'rest', 'mass', 'drag', 'kv', 'reshape', 'jump', 'last_t', 'owed', 'jump_t', 'throughput')
+"""acc (float64): energy flows into the deployed tether (J): through the moving ends, the rest-length
+change, the mass change of the free lumps (with the inflow's momentum), drag, Kelvin-Voigt dissipation,
+and the energy change of mesh splits and merges; then the largest change of the reel tension from one
+step to the next (N), the last reel tension (N; NaN before the first step), the rest length merges
+took out of the reel element (m, summed), the time of the largest change (s), and the energy
+throughput: the integral of the flows' absolute values (J)."""
 (ACC_ENDS, ACC_REST, ACC_MASS, ACC_DRAG, ACC_KV, ACC_RESHAPE, ACC_JUMP, ACC_LAST_T, ACC_OWED, ACC_JUMP_T,
- ACC_THROUGHPUT) = range(11)
-ACC_SIZE = 11
+ ACC_THROUGHPUT) = offsets(ACC_FIELDS)
+ACC_SIZE = size(ACC_FIELDS)
 
 
 @njit(cache=True)
@@ -141,9 +148,9 @@ def _gauss_stretch(x, rest, e, gi, r):
     """Tangent r = dr/ds (s the rest-length coordinate; |r| is the stretch) at Gauss point gi
     of quadratic element e, into r.
     """
-    z = GAUSS[gi]
     k = 2.0 / rest[e]
-    a, b, c = (z - 0.5) * k, -2.0 * z * k, (z + 0.5) * k
+    sa, sb, sc = quadratic_slope(GAUSS[gi])
+    a, b, c = sa * k, sb * k, sc * k
     j = 2 * e
     for d in range(3):
         r[d] = a * x[j, d] + b * x[j + 1, d] + c * x[j + 2, d]
@@ -318,8 +325,7 @@ def quadratic_forces(x, v, rest, n, fp, kv_on, u0, tens, tkv, f, tangents):
         j = 2 * e
         k = 2.0 / rest[e]
         for gi in range(2):
-            z = GAUSS[gi]
-            sa, sb, sc = z - 0.5, -2.0 * z, z + 0.5
+            sa, sb, sc = quadratic_slope(GAUSS[gi])
             p = 2 * e + gi
             r = tangents[p]
             _gauss_stretch(x, rest, e, gi, r)
@@ -383,10 +389,10 @@ def _reparametrised(xa, xb, xc, l0, zetas, out):
     believed = np.zeros(m + 1)
     lam = np.empty(2)
     for gi in range(2):
-        z = GAUSS[gi]
+        sa, sb, sc = quadratic_slope(GAUSS[gi])
         sq = 0.0
         for c in range(3):
-            d = (z - 0.5) * xa[c] - 2.0 * z * xb[c] + (z + 0.5) * xc[c]
+            d = sa * xa[c] + sb * xb[c] + sc * xc[c]
             sq += d * d
         lam[gi] = 2.0 * np.sqrt(sq) / l0
     slope = (lam[1] - lam[0]) / (GAUSS[1] - GAUSS[0])
@@ -398,9 +404,10 @@ def _reparametrised(xa, xb, xc, l0, zetas, out):
     speed_prev, bel_prev = 0.0, 0.0
     for i in range(m + 1):
         z = zg[i]
+        sa, sb, sc = quadratic_slope(z)
         sq = 0.0
         for c in range(3):
-            d = (z - 0.5) * xa[c] - 2.0 * z * xb[c] + (z + 0.5) * xc[c]
+            d = sa * xa[c] + sb * xb[c] + sc * xc[c]
             sq += d * d
         speed = np.sqrt(sq)
         bel = lam[0] + slope * (z - GAUSS[0])
@@ -764,11 +771,11 @@ def _damping_flow(x, v, rest, n, order, fp, tens, tkv, tangents, acc, dt):
                 tk = tkv[2 * e + gi]
                 if tens[2 * e + gi] == 0.0 or tk == 0.0:
                     continue
-                z = GAUSS[gi]
+                sa, sb, sc = quadratic_slope(GAUSS[gi])
                 rg = tangents[2 * e + gi]
                 w = 0.0
                 for c in range(3):
-                    w += rg[c] / rg[3] * ((z - 0.5) * v[j, c] - 2.0 * z * v[j + 1, c] + (z + 0.5) * v[j + 2, c])
+                    w += rg[c] / rg[3] * (sa * v[j, c] + sb * v[j + 1, c] + sc * v[j + 2, c])
                 p_kv -= tk * w
     acc[ACC_KV] += dt * p_kv
     acc[ACC_THROUGHPUT] += dt * abs(p_kv)

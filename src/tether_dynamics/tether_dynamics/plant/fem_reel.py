@@ -101,7 +101,8 @@ import math
 
 import numpy as np
 
-from tether_dynamics.laws import GAUSS, STATUS_FULL, STATUS_NONFINITE, STATUS_SHORT, air_block
+from tether_dynamics.laws import GAUSS, STATUS_FULL, STATUS_NONFINITE, STATUS_OK, STATUS_SHORT, air_block, quadratic_slope
+from tether_dynamics.layout import pack
 from tether_dynamics.plant import fem_kernels as fk
 from tether_dynamics.plant import held_run, quasi_static, watchdog
 from tether_dynamics.plant.bodies import RS_RATE
@@ -182,7 +183,7 @@ def _quadratic_highest_omega(config: PlantConfig, shortest: float, h: float) -> 
     (shortest, h, h) with lumped masses 1/6, 2/3, 1/6 and 2-point Gauss stiffness (Eq. D.8).
     """
     ea, mu = config.ea, config.mass_per_length
-    slope = 2.0 * np.array([[z - 0.5, -2.0 * z, z + 0.5] for z in GAUSS])
+    slope = 2.0 * np.array([quadratic_slope(z) for z in GAUSS])
     rests = (shortest, h, h)
     n = 2 * len(rests) + 1
     stiff, mass = np.zeros((n, n)), np.zeros(n)
@@ -202,7 +203,7 @@ def _strain_points(rest: np.ndarray, order: int) -> tuple[np.ndarray, np.ndarray
     if order == 1:
         k = np.arange(rest.size)
         return (np.stack([k, k + 1], axis=1), np.stack([-1.0 / rest, 1.0 / rest], axis=1), rest.copy())
-    slope = np.array([[z - 0.5, -2.0 * z, z + 0.5] for z in GAUSS])
+    slope = np.array([quadratic_slope(z) for z in GAUSS])
     e = np.repeat(np.arange(rest.size), 2)
     idx = 2 * e[:, None] + np.arange(3)[None, :]
     coef = 2.0 / rest[e][:, None] * np.tile(slope, (rest.size, 1))
@@ -297,20 +298,18 @@ class FemTether:
         self.x = np.zeros((cap, 3))
         self.v = np.zeros((cap, 3))
         self.rest = np.zeros(cap)
-        self.st = np.zeros(fk.ST_SIZE, np.int64)
-        self.st[fk.ST_METHOD] = fk.METHODS[cfg.reshape]
-        self.st[fk.ST_BODY] = cfg.uav.mode == 'dynamic'
-        self.st[fk.ST_DRAG] = 'drag' in cfg.effects
-        self.st[fk.ST_KV] = 'damping' in cfg.effects and cfg.damping > 0.0
-        self.st[fk.ST_ORDER] = self.order
-        self.fp = np.zeros(fk.FP_SIZE)
-        self.fp[fk.FP_EA], self.fp[fk.FP_MU], self.fp[fk.FP_H] = cfg.ea, cfg.mass_per_length, h
-        self.fp[fk.FP_G], self.fp[fk.FP_KV] = cfg.gravity, cfg.damping
+        kv_on = 'damping' in cfg.effects and cfg.damping > 0.0
+        self.st = pack('st', fk.ST_FIELDS, {
+            'nodes': 0, 'method': fk.METHODS[cfg.reshape], 'torque': 0, 'body': cfg.uav.mode == 'dynamic',
+            'drag': 'drag' in cfg.effects, 'kv': kv_on, 'splits': 0, 'merges': 0, 'status': STATUS_OK,
+            'order': self.order}, np.int64)
         wind = cfg.wind if 'wind' in cfg.effects else (0.0, 0.0, 0.0)
-        self.fp[fk.FP_AIR:] = air_block(cfg.air_density, cfg.diameter, cfg.drag_coefficient, 0.008, wind)
-        self.fp[fk.FP_UAV_MASS] = cfg.uav.mass
-        self.acc = np.zeros(fk.ACC_SIZE)
-        self.acc[fk.ACC_LAST_T] = np.nan
+        self.fp = pack('fp', fk.FP_FIELDS, {
+            'ea': cfg.ea, 'mu': cfg.mass_per_length, 'h': h, 'g': cfg.gravity, 'kv': cfg.damping, 'command': 0.0,
+            'thrust': 0.0, 'pending': 0.0, 'uav_mass': cfg.uav.mass, 'payout': 0.0, 'command_prev': 0.0,
+            'owed': 0.0, 'acc1': np.zeros(3), 'acc_uav': np.zeros(3),
+            'air': air_block(cfg.air_density, cfg.diameter, cfg.drag_coefficient, 0.008, wind)})
+        self.acc = pack('acc', fk.ACC_FIELDS, {name: np.nan if name == 'last_t' else 0.0 for name, _ in fk.ACC_FIELDS})
         self.energy0 = 0.0
         self._marks = watchdog.fresh_marks()
         self._verdict = np.zeros(3)
